@@ -1,0 +1,38 @@
+# trocar_target_warnings(target): the project's warning set; errors when TROCAR_WERROR is on.
+function(trocar_target_warnings target)
+  target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic -Wshadow -Wconversion
+    -Wno-sign-conversion $<$<BOOL:${TROCAR_WERROR}>:-Werror>)
+endfunction()
+
+# trocar_add_module(name SOURCES... DEPS...): one library per folder under src/trocar/,
+# exported as trocar::name, headers installed under include/trocar/name.
+function(trocar_add_module name)
+  cmake_parse_arguments(M "" "" "SOURCES;PUBLIC_DEPS;PRIVATE_DEPS" ${ARGN})
+  add_library(trocar_${name} ${M_SOURCES})
+  add_library(trocar::${name} ALIAS trocar_${name})
+  set_target_properties(trocar_${name} PROPERTIES EXPORT_NAME ${name} POSITION_INDEPENDENT_CODE ON)
+  target_include_directories(trocar_${name} PUBLIC
+    $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/src>
+    $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
+  target_compile_features(trocar_${name} PUBLIC cxx_std_20)
+  target_link_libraries(trocar_${name} PUBLIC ${M_PUBLIC_DEPS} PRIVATE ${M_PRIVATE_DEPS})
+  trocar_target_warnings(trocar_${name})
+  install(TARGETS trocar_${name} EXPORT trocarTargets
+    ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
+  install(DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/trocar/${name}
+    FILES_MATCHING PATTERN "*.h")
+endfunction()
+
+# trocar_add_test(name SOURCES... DEPS...): a GoogleTest binary registered with ctest.
+function(trocar_add_test name)
+  cmake_parse_arguments(T "" "" "SOURCES;DEPS" ${ARGN})
+  if(NOT T_SOURCES)
+    return()
+  endif()
+  add_executable(${name} ${T_SOURCES})
+  target_link_libraries(${name} PRIVATE ${T_DEPS} GTest::gtest_main)
+  target_compile_definitions(${name} PRIVATE
+    TROCAR_SHARED_MESHES="${PROJECT_SOURCE_DIR}/../shared/data/meshes")
+  trocar_target_warnings(${name})
+  gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60)
+endfunction()
