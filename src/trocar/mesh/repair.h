@@ -38,7 +38,9 @@ struct RepairOptions {
   /// exactly two triangles; non-manifold edges do not propagate). The first triangle of each
   /// patch keeps its winding.
   bool make_winding_consistent = true;
-  /// Flip every closed patch with negative signed volume (needs consistent winding).
+  /// Flip every closed patch (all its edges shared by exactly two triangles) with negative
+  /// signed volume. Needs make_winding_consistent (patches are single triangles without it).
+  /// A closed inner shell meant as a cavity is turned outward too: switch this off for those.
   bool orient_outward = true;
   /// Remove vertices no triangle uses, remapping indices (normals follow their vertices).
   bool drop_unused_vertices = true;
@@ -57,10 +59,12 @@ struct RepairReport {
   std::size_t duplicate_triangles_removed = 0;///< duplicate triangles dropped
   std::size_t components_removed = 0;         ///< small components dropped
   std::size_t component_triangles_removed = 0;///< their triangles
-  std::size_t triangles_flipped = 0;          ///< flipped for consistent winding
+  std::size_t triangles_flipped = 0;          ///< triangles whose winding changed (net, both steps)
   std::size_t patches = 0;                    ///< edge-connected patches seen by the winding step
   std::size_t patches_flipped_outward = 0;    ///< closed patches flipped to positive volume
   std::size_t unused_vertices_removed = 0;    ///< unused vertices dropped
+  bool normals_dropped = false;    ///< normals cleared because their count was not V on entry
+  bool texcoords_dropped = false;  ///< texcoords cleared because their count was not 3·T on entry
 
   /// True when the mesh was modified.
   bool changed() const;

@@ -14,8 +14,8 @@ namespace trocar {
 /// Which way a closed mesh's normals point.
 enum class Orientation {
   kOutward,    ///< closed, consistently wound, signed volume > 0
-  kInward,     ///< closed, consistently wound, signed volume < 0
-  kUndefined,  ///< open, non-manifold, inconsistently wound or zero volume
+  kInward,     ///< closed, consistently wound, signed volume < 0 (inside out)
+  kUndefined,  ///< open, non-manifold edge, degenerate, inconsistently wound or zero volume
 };
 
 /// "outward", "inward" or "undefined".
