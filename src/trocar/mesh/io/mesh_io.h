@@ -25,11 +25,13 @@ MeshFormat format_from_path(const std::filesystem::path& path);
 
 /// Wavefront OBJ: v/vt/vn, f in all index forms (v, v/t, v//n, v/t/n, negative = relative),
 /// polygons fan-triangulated, CRLF, g/o/s/usemtl/mtllib accepted (no .mtl is read).
-/// Vertex order and indices are the file's `v` order (unused vertices are kept).
+/// Vertex order and indices are the file's `v` order (unused vertices are kept). Normals are
+/// kept when every corner has a `vn`: each vertex takes the first referencing corner's normal
+/// (zero if unused); texcoords when every corner has a `vt`. No faces is an error.
 TriMesh read_obj(std::string_view bytes, const std::string& name);
 /// STL, ASCII or binary (detected by content, not by the word "solid"); attribute words are
-/// ignored; corners with bit-identical coordinates are welded into one vertex, in order of
-/// first appearance.
+/// ignored; corners with bit-identical coordinates (-0 = +0) are welded into one vertex, in
+/// order of first appearance; degenerate facets are kept.
 TriMesh read_stl(std::string_view bytes, const std::string& name);
 /// PLY 1.0: ascii, binary_little_endian, binary_big_endian; `vertex` (x, y, z, optional
 /// nx ny nz) and `face` (vertex_indices / vertex_index list), any other elements skipped.
