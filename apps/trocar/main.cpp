@@ -1,16 +1,25 @@
-// trocar: the command-line program. Subcommands live in their own files (mesh_command.cpp, ...).
+// trocar: the command-line program. Each subcommand lives in its own file.
 #include <CLI/CLI.hpp>
 #include <iostream>
 
+#include "mesh_command.h"
 #include "trocar/core/error.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"trocar: real-time simulation of laparoscopic instruments on deformable organs"};
   app.require_subcommand(1);
+  int exit_code = 0;
+  trocar::cli::add_mesh_command(app, exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
+  } catch (const trocar::Error& e) {
+    std::cerr << "trocar: error: " << e.what() << "\n";
+    return 1;
+  } catch (const std::exception& e) {
+    std::cerr << "trocar: internal error: " << e.what() << "\n";
+    return 2;
   }
-  return 0;
+  return exit_code;
 }
