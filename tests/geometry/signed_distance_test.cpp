@@ -1,0 +1,158 @@
+#include "trocar/geometry/signed_distance.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "test_meshes.h"
+#include "trocar/core/error.h"
+
+namespace trocar {
+namespace {
+
+using test::make_cube;
+using test::make_icosphere;
+
+// Exact signed distance to the box [−h, h]³: outside, the length of the excess over the box;
+// inside, minus the distance to the nearest face.
+Real box_sdf(const Vec3& p, Real h) {
+  const Vec3 q = p.cwiseAbs() - Vec3::Constant(h);
+  return q.cwiseMax(0.0).norm() + std::min(q.maxCoeff(), Real{0});
+}
+
+TEST(MeshDistance, CubeIsExactInsideAndOutside) {
+  const auto cube = make_cube(1.0);
+  const MeshDistance md(cube.positions, cube.triangles);
+  EXPECT_EQ(md.edge_count(), 18u);  // 12 cube edges + 6 face diagonals
+  // Hand values: centre −1; (0.5,0,0) is 0.5 from the face x = 1; (2,0,0) is 1 out;
+  // (2,2,0) is √2 from the edge; (2,3,4) is |(1,2,3)| = √14 from the corner.
+  EXPECT_NEAR(md.signed_distance(Vec3(0, 0, 0)).distance, -1.0, 1e-15);
+  EXPECT_NEAR(md.signed_distance(Vec3(0.5, 0, 0)).distance, -0.5, 1e-15);
+  EXPECT_NEAR(md.signed_distance(Vec3(2, 0, 0)).distance, 1.0, 1e-15);
+  EXPECT_NEAR(md.signed_distance(Vec3(2, 2, 0)).distance, std::sqrt(2.0), 1e-15);
+  EXPECT_NEAR(md.signed_distance(Vec3(2, 3, 4)).distance, std::sqrt(14.0), 1e-14);
+  const SignedDistanceResult corner = md.signed_distance(Vec3(2, 3, 4));
+  EXPECT_EQ(corner.feature, TriangleFeature::kVertex);
+  EXPECT_EQ(corner.closest_point, Vec3(1, 1, 1));
+  // The corner's angle-weighted pseudonormal is (1,1,1)/√3 by symmetry (each face meets the
+  // corner with total angle π/2, whatever its triangulation).
+  EXPECT_NEAR((corner.pseudonormal - Vec3(1, 1, 1).normalized()).norm(), 0.0, 1e-15);
+
+  // Just inside and just outside (1e-6) near an edge and a corner, where the sign is decided by
+  // the edge or vertex pseudonormal (a single face normal would get some of these wrong).
+  for (const Real s : {1.0, -1.0}) {
+    const Real off = 1.0 + s * 1e-6;
+    EXPECT_NEAR(md.signed_distance(Vec3(off, off, 0.3)).distance, box_sdf(Vec3(off, off, 0.3), 1),
+                1e-15);
+    EXPECT_NEAR(md.signed_distance(Vec3(off, off, off)).distance, box_sdf(Vec3(off, off, off), 1),
+                1e-15);
+    EXPECT_EQ(md.signed_distance(Vec3(off, off, off)).distance > 0, s > 0);
+  }
+
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<Real> u(-2.5, 2.5);
+  for (int i = 0; i < 2000; ++i) {
+    const Vec3 p(u(rng), u(rng), u(rng));
+    const SignedDistanceResult r = md.signed_distance(p);
+    EXPECT_NEAR(r.distance, box_sdf(p, 1.0), 1e-14) << p.transpose();
+    EXPECT_NEAR((p - r.closest_point).norm(), std::abs(r.distance), 1e-14);
+  }
+}
+
+TEST(MeshDistance, IcosphereMatchesTheSphereWithinTheTessellationError) {
+  const auto sphere = make_icosphere(3, 1.0);  // 1280 triangles
+  ASSERT_EQ(sphere.triangles.size(), 1280u);
+  const MeshDistance md(sphere.positions, sphere.triangles);
+  // The mesh lies between the sphere of radius 1 (vertices) and that of the smallest distance
+  // from the centre to a face plane, r_in; so for any p, |p| − 1 ≤ sd(p) ≤ |p| − r_in.
+  Real r_in = 1;
+  for (const Triangle& t : sphere.triangles) {
+    const Vec3& a = sphere.positions[t[0]];
+    const Vec3 n = (sphere.positions[t[1]] - a).cross(sphere.positions[t[2]] - a).normalized();
+    r_in = std::min(r_in, std::abs(n.dot(a)));
+  }
+  EXPECT_GT(r_in, 0.99);  // level 3 icosphere: r_in ≈ 0.9949 (hand-checked order of magnitude)
+  std::mt19937_64 rng(4);
+  std::uniform_real_distribution<Real> u(-2, 2);
+  int inside = 0;
+  for (int i = 0; i < 5000; ++i) {
+    const Vec3 p(u(rng), u(rng), u(rng));
+    const Real d = md.signed_distance(p).distance;
+    EXPECT_GE(d, p.norm() - 1 - 1e-12) << p.transpose();
+    EXPECT_LE(d, p.norm() - r_in + 1e-12) << p.transpose();
+    if (p.norm() < r_in) {
+      EXPECT_LT(d, 0);
+      ++inside;
+    }
+    if (p.norm() > 1) {
+      EXPECT_GT(d, 0);
+    }
+  }
+  EXPECT_GT(inside, 100);
+  EXPECT_NEAR(md.signed_distance(Vec3::Zero()).distance, -r_in, 1e-12);
+}
+
+void expect_tree_matches_brute_force(const MeshDistance& md, std::uint64_t seed, int count) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<Real> u(-2, 2);
+  int sign_checked = 0;
+  for (int i = 0; i < count; ++i) {
+    // Half the points near the surface (within ±0.05 of a random vertex) to stress ties.
+    Vec3 p(u(rng), u(rng), u(rng));
+    if (i % 2 == 1) {
+      const auto v = static_cast<std::size_t>(rng() % md.positions().size());
+      p = md.positions()[v] + 0.025 * Vec3(u(rng), u(rng), u(rng));
+    }
+    const SignedDistanceResult t = md.signed_distance(p);
+    const SignedDistanceResult b = md.signed_distance_brute_force(p);
+    ASSERT_NEAR(std::abs(t.distance), std::abs(b.distance), 1e-14) << p.transpose();
+    if (std::abs(b.distance) > 1e-9) {
+      ASSERT_EQ(t.distance > 0, b.distance > 0) << p.transpose();
+      ++sign_checked;
+    }
+  }
+  EXPECT_GT(sign_checked, count * 9 / 10);
+}
+
+TEST(MeshDistance, TreeQueryEqualsBruteForceAndSurvivesRefit) {
+  auto sphere = make_icosphere(3, 1.0);
+  MeshDistance md(sphere.positions, sphere.triangles);
+  expect_tree_matches_brute_force(md, 5, 10000);
+
+  // Deform: stretch x by 1.6, squash z, add a bump; the mesh stays closed and star-shaped.
+  for (Vec3& p : sphere.positions) {
+    p = Vec3(1.6 * p.x(), p.y(), 0.7 * p.z()) * (1.0 + 0.2 * std::sin(3 * p.x()) * p.y());
+  }
+  md.refit(sphere.positions);
+  expect_tree_matches_brute_force(md, 6, 10000);
+  // The refitted object answers like one built from the moved positions.
+  const MeshDistance fresh(sphere.positions, sphere.triangles);
+  std::mt19937_64 rng(8);
+  std::uniform_real_distribution<Real> u(-2, 2);
+  for (int i = 0; i < 1000; ++i) {
+    const Vec3 p(u(rng), u(rng), u(rng));
+    ASSERT_EQ(md.signed_distance(p).distance, fresh.signed_distance(p).distance);
+  }
+  // Points along the stretched x axis: inside up to x ≈ 1.6 (the bump is 0 at y = 0).
+  EXPECT_LT(md.signed_distance(Vec3(1.5, 0, 0)).distance, 0);
+  EXPECT_GT(md.signed_distance(Vec3(1.7, 0, 0)).distance, 0);
+}
+
+TEST(MeshDistance, RejectsBadInputAndHandlesEmptyMeshes) {
+  const std::vector<Vec3> pts = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)};
+  const std::vector<Triangle> bad = {{0, 1, 3}};
+  EXPECT_THROW(MeshDistance(pts, bad), Error);
+  const MeshDistance empty(pts, {});
+  const SignedDistanceResult r = empty.signed_distance(Vec3(1, 2, 3));
+  EXPECT_EQ(r.triangle, MeshDistance::kNoTriangle);
+  EXPECT_TRUE(std::isinf(r.distance));
+  MeshDistance one(pts, std::vector<Triangle>{{0, 1, 2}});
+  EXPECT_THROW(one.refit(std::vector<Vec3>(2)), Error);
+  // A single triangle: above its normal side positive.
+  EXPECT_NEAR(one.signed_distance(Vec3(0.2, 0.2, 0.5)).distance, 0.5, 1e-15);
+  EXPECT_NEAR(one.signed_distance(Vec3(0.2, 0.2, -0.5)).distance, -0.5, 1e-15);
+}
+
+}  // namespace
+}  // namespace trocar
