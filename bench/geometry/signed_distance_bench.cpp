@@ -5,7 +5,7 @@
 #include <random>
 #include <vector>
 
-#include "bench_meshes.h"
+#include "trocar/mesh/generate.h"
 #include "trocar/geometry/closest_point.h"
 #include "trocar/geometry/signed_distance.h"
 
@@ -35,8 +35,8 @@ std::vector<Vec3> near_surface_points() {
   return pts;
 }
 
-const bench::SimpleMesh& sphere() {
-  static const bench::SimpleMesh m = bench::make_icosphere(4, 1.0);  // 5120 triangles
+const TriMesh& sphere() {
+  static const TriMesh m = make_icosphere(1.0, 4);  // 5120 triangles
   return m;
 }
 

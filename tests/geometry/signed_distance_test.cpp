@@ -5,14 +5,15 @@
 #include <cmath>
 #include <random>
 
-#include "test_meshes.h"
+#include "trocar/mesh/generate.h"
 #include "trocar/core/error.h"
 
 namespace trocar {
 namespace {
 
-using test::make_cube;
-using test::make_icosphere;
+// The meshes come from the mesh module's generators (tests may depend on any module).
+TriMesh cube_mesh(Real h) { return make_box(2 * h, 2 * h, 2 * h); }
+TriMesh sphere_mesh(int levels, Real radius) { return make_icosphere(radius, levels); }
 
 // Exact signed distance to the box [−h, h]³: outside, the length of the excess over the box;
 // inside, minus the distance to the nearest face.
@@ -22,7 +23,7 @@ Real box_sdf(const Vec3& p, Real h) {
 }
 
 TEST(MeshDistance, CubeIsExactInsideAndOutside) {
-  const auto cube = make_cube(1.0);
+  const auto cube = cube_mesh(1.0);
   const MeshDistance md(cube.positions, cube.triangles);
   EXPECT_EQ(md.edge_count(), 18u);  // 12 cube edges + 6 face diagonals
   // Hand values: centre −1; (0.5,0,0) is 0.5 from the face x = 1; (2,0,0) is 1 out;
@@ -61,7 +62,7 @@ TEST(MeshDistance, CubeIsExactInsideAndOutside) {
 }
 
 TEST(MeshDistance, IcosphereMatchesTheSphereWithinTheTessellationError) {
-  const auto sphere = make_icosphere(3, 1.0);  // 1280 triangles
+  const auto sphere = sphere_mesh(3, 1.0);  // 1280 triangles
   ASSERT_EQ(sphere.triangles.size(), 1280u);
   const MeshDistance md(sphere.positions, sphere.triangles);
   // The mesh lies between the sphere of radius 1 (vertices) and that of the smallest distance
@@ -116,7 +117,7 @@ void expect_tree_matches_brute_force(const MeshDistance& md, std::uint64_t seed,
 }
 
 TEST(MeshDistance, TreeQueryEqualsBruteForceAndSurvivesRefit) {
-  auto sphere = make_icosphere(3, 1.0);
+  auto sphere = sphere_mesh(3, 1.0);
   MeshDistance md(sphere.positions, sphere.triangles);
   expect_tree_matches_brute_force(md, 5, 10000);
 
