@@ -1,15 +1,317 @@
-// Placeholder: the force terms land here. Replace this whole file.
+// Internal forces of the mass-spring tissue, their energies and their Jacobian products.
+//
+// Conventions used throughout this file:
+//  * A spring joins x_i and x_j; d = x_j − x_i, |d| its length, u = d/|d| its unit direction.
+//  * A triangle (a, b, c) is counter-clockwise seen from outside; n = (b − a) × (c − a) is
+//    twice its area vector, so A = ½|n| and n̂ = n/|n|.
+//  * "∂f/∂x" is the Jacobian of the force (not of the energy): for conservative terms it is
+//    −∇²E, so every product below applies a negative-semidefinite matrix.
+//  * Degenerate geometry (a spring shorter than kTinyLength, a triangle with |n|² below
+//    kTinyNormal2) contributes no direction-dependent force: the direction is undefined there,
+//    and taking it as zero keeps every result finite (no 0/0).
+// Every loop reads the flat arrays once and writes through raw pointers; none allocates.
 #include "trocar/tissue/forces.h"
 
-namespace trocar {
+#include <algorithm>
+#include <cassert>
+#include <cmath>
 
-void accumulate_forces(const MassSpringSettings&, std::span<const Vec3>, std::span<const Vec3>, std::span<Vec3>,
-                       const ForceTerms&) {}
-Real potential_energy(const MassSpringSettings&, std::span<const Vec3>, const ForceTerms&) { return 0; }
-Real kinetic_energy(const MassSpringSettings&, std::span<const Vec3>) { return 0; }
-void add_stiffness_product(const MassSpringSettings&, std::span<const Vec3>, std::span<const Vec3>, std::span<Vec3>,
-                           const ForceTerms&) {}
-void add_damping_product(const MassSpringSettings&, std::span<const Vec3>, std::span<const Vec3>, std::span<Vec3>,
-                         const ForceTerms&) {}
+namespace trocar {
+namespace {
+
+/// Squared spring length (m²) below which a spring has no direction (1e-15 m: far below any
+/// mesh edge, far above the denormal range so 1/|d| stays finite).
+constexpr Real kTinyLength2 = 1e-30;
+/// Squared |n| = (2A)² (m⁴) below which a triangle has no normal (A < 5e-16 m²).
+constexpr Real kTinyNormal2 = 1e-30;
+
+/// 1/|d| for a squared length, or 0 for a degenerate one (so u = d·inv is 0, never NaN).
+inline Real safe_inverse_sqrt(Real length2, Real tiny2) { return length2 > tiny2 ? 1.0 / std::sqrt(length2) : 0.0; }
+
+bool area_active(const MassSpringSettings& s, const ForceTerms& t) {
+  return t.area && s.k_area > 0 && s.mean_rest_area > 0 && s.rest_areas.size() == s.triangles.size();
+}
+bool volume_active(const MassSpringSettings& s, const ForceTerms& t) {
+  return t.volume && s.closed && s.k_volume > 0 && s.rest_volume > 0;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Springs (eq. 3.2)
+//
+// Elastic: E = ½ k (|d| − l)², f_i = −∂E/∂x_i = k (|d| − l) u, f_j = −f_i.
+// Damping: f_i = λ ((v_j − v_i)·u) u, f_j = −f_i; along the spring only, so a rigid motion
+// (v_j − v_i = ω × d ⟂ d) is not damped.
+// Both share the direction, so f_i = σ d with σ = k(|d| − l)/|d| + λ (Δv·d)/|d|²: one sqrt and
+// one division per spring.
+void spring_forces(const MassSpringSettings& s, const Vec3* x, const Vec3* v, Vec3* f) {
+  const Spring* sp = s.springs.data();
+  const std::size_t n = s.springs.size();
+  for (std::size_t e = 0; e < n; ++e) {
+    const Spring& p = sp[e];
+    const Vec3 d = x[p.j] - x[p.i];
+    const Vec3 dv = v[p.j] - v[p.i];
+    const Real inv = safe_inverse_sqrt(d.squaredNorm(), kTinyLength2);
+    const Real len = d.squaredNorm() * inv;  // |d| (0 when degenerate)
+    const Real sigma = p.stiffness * (len - p.rest_length) * inv + p.damping * dv.dot(d) * inv * inv;
+    const Vec3 fi = sigma * d;
+    f[p.i] += fi;
+    f[p.j] -= fi;
+  }
+}
+
+Real spring_energy(const MassSpringSettings& s, const Vec3* x) {
+  Real e = 0;
+  for (const Spring& p : s.springs) {
+    const Real stretch = (x[p.j] - x[p.i]).norm() - p.rest_length;
+    e += 0.5 * p.stiffness * stretch * stretch;
+  }
+  return e;
+}
+
+// Stiffness: with d = x_j − x_i, ∂f_i/∂x_j = K, ∂f_i/∂x_i = −K, and f_j = −f_i, where
+//   K = ∂(k(|d| − l) u)/∂d = k [ u uᵀ + (1 − l/|d|)(I − u uᵀ) ]
+// (∂|d|/∂d = uᵀ, ∂u/∂d = (I − u uᵀ)/|d|). So out_i += K (dx_j − dx_i), out_j −= the same.
+// PSD projection: when the spring is compressed (|d| < l) the transverse factor 1 − l/|d| is
+// negative and the spring buckles (K indefinite); we clamp it to max(0, 1 − l/|d|) so K ⪰ 0 and
+// the assembled ∂f/∂x = −[K −K; −K K] ⪯ 0, as conjugate gradients on (M − h²∂f/∂x) requires.
+// Stretched springs (|d| ≥ l) are exact. A degenerate spring (inv = 0) gets K = k I, which is
+// exact for a zero-rest-length spring (f = k d). The x-derivative of the damping force
+// (through u) is left out, as in Baraff & Witkin 1998.
+void spring_stiffness_product(const MassSpringSettings& s, const Vec3* x, const Vec3* dx, Vec3* out) {
+  const Spring* sp = s.springs.data();
+  const std::size_t n = s.springs.size();
+  for (std::size_t e = 0; e < n; ++e) {
+    const Spring& p = sp[e];
+    const Vec3 d = x[p.j] - x[p.i];
+    const Real inv = safe_inverse_sqrt(d.squaredNorm(), kTinyLength2);
+    const Vec3 u = d * inv;
+    const Real c = std::max(Real{0}, 1.0 - p.rest_length * inv);
+    const Vec3 delta = dx[p.j] - dx[p.i];
+    const Vec3 k_delta = p.stiffness * (c * delta + ((1.0 - c) * u.dot(delta)) * u);
+    out[p.i] += k_delta;
+    out[p.j] -= k_delta;
+  }
+}
+
+// Damping: ∂f_i/∂v_j = λ u uᵀ, ∂f_i/∂v_i = −λ u uᵀ (exact; u does not depend on v).
+void spring_damping_product(const MassSpringSettings& s, const Vec3* x, const Vec3* dv, Vec3* out) {
+  const Spring* sp = s.springs.data();
+  const std::size_t n = s.springs.size();
+  for (std::size_t e = 0; e < n; ++e) {
+    const Spring& p = sp[e];
+    const Vec3 d = x[p.j] - x[p.i];
+    const Real inv2 = d.squaredNorm() > kTinyLength2 ? 1.0 / d.squaredNorm() : 0.0;
+    // λ u (u·Δv) = λ d (d·Δv)/|d|²: no sqrt needed.
+    const Vec3 g = (p.damping * d.dot(dv[p.j] - dv[p.i]) * inv2) * d;
+    out[p.i] += g;
+    out[p.j] -= g;
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Area and volume constraints
+//
+// Area: E_t = ½ κ (A − A0)² with κ = k_area/Ā0. A = ½|n|, dA = ½ n̂·dn and, for a corner
+// displacement da, dn = da × (b − c), so n̂·(da × (b − c)) = da·((b − c) × n̂) and
+//   ∂A/∂x_a = ½ n̂ × (c − b),  ∂A/∂x_b = ½ n̂ × (a − c),  ∂A/∂x_c = ½ n̂ × (b − a)
+// (cyclic). Force f_a = −κ (A − A0) ∂A/∂x_a. These three sum to zero and are unchanged by a
+// rigid motion, so the term is frame-invariant.
+//
+// Volume: V = Σ_t (a − o)·((b − o) × (c − o))/6 for any origin o (exact for a closed mesh);
+// (a − o)·((b − o) × (c − o)) = (a − o)·n, and we take o = the current position of the first
+// triangle's first vertex so the sum is accurate however far the organ is from the world origin.
+// ∂V/∂x_v = Σ_{t∋v} (b_t − o) × (c_t − o)/6 (a, b, c cyclic with v = a). Around a closed vertex
+// ring Σ (c_t − b_t) = 0, so the sum does not depend on o; choosing o = x_v gives
+//   ∂V/∂x_v = Σ_{t∋v} n_t/6,
+// i.e. each triangle pushes all three corners by n_t/6: a pressure p = −κ_V (V − V0),
+// κ_V = k_volume/V0, on every triangle. Two passes over the triangles: V, then the pressure.
+
+/// Corner positions and n = (b − a) × (c − a) of triangle t.
+struct TriangleGeometry {
+  Vec3 a, b, c, n;
+};
+inline TriangleGeometry triangle_geometry(const Triangle& tri, const Vec3* x) {
+  const Vec3& a = x[tri[0]];
+  const Vec3& b = x[tri[1]];
+  const Vec3& c = x[tri[2]];
+  return {a, b, c, (b - a).cross(c - a)};
+}
+
+/// One pass: the area forces (when kArea) and the current volume V (when kVolume; else 0).
+template <bool kArea, bool kVolume>
+Real area_forces_and_volume(const MassSpringSettings& s, const Vec3* x, Vec3* f) {
+  const Triangle* tris = s.triangles.data();
+  const Real* rest = s.rest_areas.data();
+  const std::size_t nt = s.triangles.size();
+  const Real kappa = kArea ? s.k_area / s.mean_rest_area : 0.0;
+  const Vec3 origin = x[tris[0][0]];
+  Real six_v = 0;
+  for (std::size_t t = 0; t < nt; ++t) {
+    const Triangle& tri = tris[t];
+    const TriangleGeometry g = triangle_geometry(tri, x);
+    if constexpr (kArea) {
+      const Real n2 = g.n.squaredNorm();
+      const Real inv = safe_inverse_sqrt(n2, kTinyNormal2);
+      const Real area = 0.5 * n2 * inv;
+      // f_a = −κ (A − A0) · ½ n̂ × (c − b) with n̂ = n·inv.
+      const Real coef = -kappa * (area - rest[t]) * 0.5 * inv;
+      f[tri[0]] += coef * g.n.cross(g.c - g.b);
+      f[tri[1]] += coef * g.n.cross(g.a - g.c);
+      f[tri[2]] += coef * g.n.cross(g.b - g.a);
+    }
+    if constexpr (kVolume) six_v += (g.a - origin).dot(g.n);
+  }
+  return six_v / 6.0;
+}
+
+/// V of a closed mesh (m³), about a vertex of the mesh for accuracy.
+Real volume_of(const MassSpringSettings& s, const Vec3* x) {
+  return area_forces_and_volume<false, true>(s, x, nullptr);
+}
+
+/// Adds scale · n_t/6 to each corner of every triangle (scale · ∂V/∂x on a closed mesh).
+void add_volume_gradient(const MassSpringSettings& s, const Vec3* x, Real scale, Vec3* out) {
+  const Real w = scale / 6.0;
+  for (const Triangle& tri : s.triangles) {
+    const Vec3 g = w * triangle_geometry(tri, x).n;
+    out[tri[0]] += g;
+    out[tri[1]] += g;
+    out[tri[2]] += g;
+  }
+}
+
+void triangle_forces(const MassSpringSettings& s, const Vec3* x, Vec3* f, const ForceTerms& terms) {
+  const bool area = area_active(s, terms);
+  const bool volume = volume_active(s, terms);
+  if (area && !volume) area_forces_and_volume<true, false>(s, x, f);
+  if (!volume) return;
+  const Real v = area ? area_forces_and_volume<true, true>(s, x, f) : volume_of(s, x);
+  add_volume_gradient(s, x, -s.k_volume / s.rest_volume * (v - s.rest_volume), f);
+}
+
+// Stiffness of the constraints: ∇²E = κ [∇A ∇Aᵀ + (A − A0) ∇²A] (likewise for V). We keep the
+// Gauss–Newton part only, ∂f/∂x ≈ −κ ∇A ∇Aᵀ (and −κ_V ∇V ∇Vᵀ): negative semidefinite by
+// construction, and exact at rest, where A = A0 and V = V0 cancel the dropped second-order
+// terms (∇²A and ∇²V are indefinite and would break conjugate gradients far from rest).
+// The product is rank one per triangle: out_a += −κ (∇A·dx) ∂A/∂x_a, with
+// ∇A·dx = Σ_corners ∂A/∂x_corner · dx_corner; for the volume, ∇V·dx = Σ_t (n_t/6)·(dx_a+dx_b+dx_c)
+// is a single scalar over the whole mesh, then every triangle adds −κ_V (∇V·dx) n_t/6.
+template <bool kArea, bool kVolume>
+Real area_stiffness_and_volume_slope(const MassSpringSettings& s, const Vec3* x, const Vec3* dx, Vec3* out) {
+  const Triangle* tris = s.triangles.data();
+  const std::size_t nt = s.triangles.size();
+  const Real kappa = kArea ? s.k_area / s.mean_rest_area : 0.0;
+  Real six_slope = 0;
+  for (std::size_t t = 0; t < nt; ++t) {
+    const Triangle& tri = tris[t];
+    const TriangleGeometry g = triangle_geometry(tri, x);
+    const Vec3& da = dx[tri[0]];
+    const Vec3& db = dx[tri[1]];
+    const Vec3& dc = dx[tri[2]];
+    if constexpr (kArea) {
+      const Real inv = safe_inverse_sqrt(g.n.squaredNorm(), kTinyNormal2);
+      const Real half_inv = 0.5 * inv;
+      const Vec3 ga = half_inv * g.n.cross(g.c - g.b);
+      const Vec3 gb = half_inv * g.n.cross(g.a - g.c);
+      const Vec3 gc = half_inv * g.n.cross(g.b - g.a);
+      const Real coef = -kappa * (ga.dot(da) + gb.dot(db) + gc.dot(dc));
+      out[tri[0]] += coef * ga;
+      out[tri[1]] += coef * gb;
+      out[tri[2]] += coef * gc;
+    }
+    if constexpr (kVolume) six_slope += g.n.dot(da + db + dc);
+  }
+  return six_slope / 6.0;
+}
+
+void triangle_stiffness_product(const MassSpringSettings& s, const Vec3* x, const Vec3* dx, Vec3* out,
+                                const ForceTerms& terms) {
+  const bool area = area_active(s, terms);
+  const bool volume = volume_active(s, terms);
+  if (area && !volume) area_stiffness_and_volume_slope<true, false>(s, x, dx, out);
+  if (!volume) return;
+  const Real slope = area ? area_stiffness_and_volume_slope<true, true>(s, x, dx, out)
+                          : area_stiffness_and_volume_slope<false, true>(s, x, dx, out);
+  add_volume_gradient(s, x, -s.k_volume / s.rest_volume * slope, out);
+}
+
+}  // namespace
+
+void accumulate_forces(const MassSpringSettings& s, std::span<const Vec3> x, std::span<const Vec3> v,
+                       std::span<Vec3> forces, const ForceTerms& terms) {
+  const std::size_t n = s.vertex_count();
+  assert(x.size() == n && v.size() == n && forces.size() == n);
+  const Vec3* xp = x.data();
+  Vec3* f = forces.data();
+  if (terms.springs && !s.springs.empty()) spring_forces(s, xp, v.data(), f);
+  if (!s.triangles.empty()) triangle_forces(s, xp, f, terms);
+
+  // Per-vertex terms in one pass: home −k_home (x − x0), global damping −γ m v, gravity m g.
+  const Real k_home = terms.home ? s.k_home : 0.0;
+  const Real gamma = terms.global_damping ? s.damping : 0.0;
+  const Vec3 g = terms.gravity ? s.gravity : Vec3::Zero();
+  if (k_home == 0 && gamma == 0 && g.isZero(0)) return;
+  const Vec3* x0 = s.rest_positions.data();
+  const Real* m = s.masses.data();
+  const Vec3* vp = v.data();
+  for (std::size_t i = 0; i < n; ++i) f[i] += m[i] * (g - gamma * vp[i]) - k_home * (xp[i] - x0[i]);
+}
+
+Real potential_energy(const MassSpringSettings& s, std::span<const Vec3> x, const ForceTerms& terms) {
+  assert(x.size() == s.vertex_count());
+  const Vec3* xp = x.data();
+  Real e = 0;
+  if (terms.springs) e += spring_energy(s, xp);
+  if (area_active(s, terms)) {
+    Real sum = 0;
+    for (std::size_t t = 0; t < s.triangles.size(); ++t) {
+      const Real da = 0.5 * triangle_geometry(s.triangles[t], xp).n.norm() - s.rest_areas[t];
+      sum += da * da;
+    }
+    e += 0.5 * s.k_area / s.mean_rest_area * sum;
+  }
+  if (volume_active(s, terms) && !s.triangles.empty()) {
+    const Real dv = volume_of(s, xp) - s.rest_volume;
+    e += 0.5 * s.k_volume / s.rest_volume * dv * dv;
+  }
+  if (terms.home && s.k_home != 0) {
+    Real sum = 0;
+    for (std::size_t i = 0; i < x.size(); ++i) sum += (xp[i] - s.rest_positions[i]).squaredNorm();
+    e += 0.5 * s.k_home * sum;
+  }
+  if (terms.gravity) {
+    // −Σ m g·x, so that −∇ gives m g.
+    for (std::size_t i = 0; i < x.size(); ++i) e -= s.masses[i] * s.gravity.dot(xp[i]);
+  }
+  return e;
+}
+
+Real kinetic_energy(const MassSpringSettings& s, std::span<const Vec3> v) {
+  assert(v.size() == s.vertex_count());
+  Real e = 0;
+  for (std::size_t i = 0; i < v.size(); ++i) e += s.masses[i] * v[i].squaredNorm();
+  return 0.5 * e;
+}
+
+void add_stiffness_product(const MassSpringSettings& s, std::span<const Vec3> x, std::span<const Vec3> dx,
+                           std::span<Vec3> out, const ForceTerms& terms) {
+  const std::size_t n = s.vertex_count();
+  assert(x.size() == n && dx.size() == n && out.size() == n);
+  if (terms.springs && !s.springs.empty()) spring_stiffness_product(s, x.data(), dx.data(), out.data());
+  if (!s.triangles.empty()) triangle_stiffness_product(s, x.data(), dx.data(), out.data(), terms);
+  // Home springs: ∂(−k_home (x − x0))/∂x = −k_home I. Gravity and damping have no x-derivative.
+  if (terms.home && s.k_home != 0)
+    for (std::size_t i = 0; i < n; ++i) out[i] -= s.k_home * dx[i];
+}
+
+void add_damping_product(const MassSpringSettings& s, std::span<const Vec3> x, std::span<const Vec3> dv,
+                         std::span<Vec3> out, const ForceTerms& terms) {
+  const std::size_t n = s.vertex_count();
+  assert(x.size() == n && dv.size() == n && out.size() == n);
+  if (terms.springs && !s.springs.empty()) spring_damping_product(s, x.data(), dv.data(), out.data());
+  // Global damping: ∂(−γ m_i v_i)/∂v_i = −γ m_i I.
+  if (terms.global_damping && s.damping != 0)
+    for (std::size_t i = 0; i < n; ++i) out[i] -= (s.damping * s.masses[i]) * dv[i];
+}
 
 }  // namespace trocar

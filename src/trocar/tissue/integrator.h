@@ -1,5 +1,6 @@
 #pragma once
 /// Time integration of a mass-spring tissue.
+#include <cstdint>
 #include <string_view>
 #include <vector>
 
@@ -52,13 +53,29 @@ class MassSpringIntegrator {
  private:
   StepStats step_explicit(MassSpringState& state, const TissueLoads& loads, Real dt, bool symplectic);
   StepStats step_implicit(MassSpringState& state, const TissueLoads& loads, Real dt);
+  /// Saves the fixed vertices' positions, zeroes their velocities, and evaluates
+  /// forces_ = loads.forces + f(x, v) (the step's one force evaluation).
+  void begin_step(MassSpringState& state, const TissueLoads& loads);
+  /// Restores the fixed vertices' positions bit for bit and zeroes their velocities.
+  void end_step(MassSpringState& state) const;
+  /// out = A·p with A = M − h·∂f/∂v − h²·∂f/∂x (contacts included), filtered (0 at fixed
+  /// vertices); needs scratch_ = h·p and product_ = 0 on entry. Returns p·A·p.
+  Real apply_system(const MassSpringState& state, const TissueLoads& loads, Real h);
 
   const MassSpringSettings& settings_;
   IntegratorKind kind_;
   ImplicitOptions options_;
   ForceTerms terms_;
-  // Scratch, sized V at construction.
-  std::vector<Vec3> forces_, rhs_, dv_, residual_, direction_, product_, scratch_;
+  // Scratch, sized V at construction (none for the implicit solve unless kind_ is implicit).
+  // Implicit: dv_ is Δv, residual_ the CG residual r, direction_ the direction p, scratch_
+  // h·p, product_ first ∂f/∂x·v then A·p.
+  std::vector<Vec3> forces_, dv_, residual_, direction_, product_, scratch_;
+  std::vector<Real> inverse_diagonal_;   ///< Jacobi preconditioner 1/A_ii (0 at fixed vertices)
+  std::vector<Real> free_;               ///< 1 for free vertices, 0 for fixed (the filter S)
+  std::vector<Real> spring_damping_sum_; ///< Σ λ over the springs at each vertex (N·s/m)
+  std::vector<Real> spring_stiffness_sum_;  ///< Σ k over the springs at each vertex (N/m)
+  std::vector<std::uint32_t> fixed_indices_;  ///< the fixed vertices
+  std::vector<Vec3> fixed_positions_;    ///< their positions at the start of a step
 };
 
 }  // namespace trocar
