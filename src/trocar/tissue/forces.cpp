@@ -28,6 +28,31 @@ constexpr Real kTinyNormal2 = 1e-30;
 /// 1/|d| for a squared length, or 0 for a degenerate one (so u = d·inv is 0, never NaN).
 inline Real safe_inverse_sqrt(Real length2, Real tiny2) { return length2 > tiny2 ? 1.0 / std::sqrt(length2) : 0.0; }
 
+/// A plain 3-vector for the hot loops. Eigen's Vec3 arithmetic packs (x, y) into an SSE register
+/// and, for values computed lane by lane (cross products), builds that packet through the stack,
+/// which stalls store forwarding (measured: the area pass ran 2.5× slower). Scalar code avoids it.
+struct P3 {
+  Real x, y, z;
+};
+inline P3 load(const Vec3& v) { return {v[0], v[1], v[2]}; }
+inline P3 operator-(const P3& a, const P3& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+inline P3 operator+(const P3& a, const P3& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+inline P3 operator*(Real s, const P3& a) { return {s * a.x, s * a.y, s * a.z}; }
+inline Real dot(const P3& a, const P3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+inline P3 cross(const P3& a, const P3& b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+inline void add_to(Vec3& f, const P3& a) {
+  f[0] += a.x;
+  f[1] += a.y;
+  f[2] += a.z;
+}
+inline void subtract_from(Vec3& f, const P3& a) {
+  f[0] -= a.x;
+  f[1] -= a.y;
+  f[2] -= a.z;
+}
+
 bool area_active(const MassSpringSettings& s, const ForceTerms& t) {
   return t.area && s.k_area > 0 && s.mean_rest_area > 0 && s.rest_areas.size() == s.triangles.size();
 }
@@ -43,19 +68,20 @@ bool volume_active(const MassSpringSettings& s, const ForceTerms& t) {
 // (v_j − v_i = ω × d ⟂ d) is not damped.
 // Both share the direction, so f_i = σ d with σ = k(|d| − l)/|d| + λ (Δv·d)/|d|²: one sqrt and
 // one division per spring.
-void spring_forces(const MassSpringSettings& s, const Vec3* x, const Vec3* v, Vec3* f) {
+[[gnu::noinline]] void spring_forces(const MassSpringSettings& s, const Vec3* x, const Vec3* v, Vec3* f) {
   const Spring* sp = s.springs.data();
   const std::size_t n = s.springs.size();
   for (std::size_t e = 0; e < n; ++e) {
     const Spring& p = sp[e];
-    const Vec3 d = x[p.j] - x[p.i];
-    const Vec3 dv = v[p.j] - v[p.i];
-    const Real inv = safe_inverse_sqrt(d.squaredNorm(), kTinyLength2);
-    const Real len = d.squaredNorm() * inv;  // |d| (0 when degenerate)
-    const Real sigma = p.stiffness * (len - p.rest_length) * inv + p.damping * dv.dot(d) * inv * inv;
-    const Vec3 fi = sigma * d;
-    f[p.i] += fi;
-    f[p.j] -= fi;
+    const P3 d = load(x[p.j]) - load(x[p.i]);
+    const P3 dv = load(v[p.j]) - load(v[p.i]);
+    const Real len2 = dot(d, d);
+    const Real inv = safe_inverse_sqrt(len2, kTinyLength2);
+    const Real len = len2 * inv;  // |d| (0 when degenerate)
+    const Real sigma = p.stiffness * (len - p.rest_length) * inv + p.damping * dot(dv, d) * inv * inv;
+    const P3 fi = sigma * d;
+    add_to(f[p.i], fi);
+    subtract_from(f[p.j], fi);
   }
 }
 
@@ -77,34 +103,35 @@ Real spring_energy(const MassSpringSettings& s, const Vec3* x) {
 // Stretched springs (|d| ≥ l) are exact. A degenerate spring (inv = 0) gets K = k I, which is
 // exact for a zero-rest-length spring (f = k d). The x-derivative of the damping force
 // (through u) is left out, as in Baraff & Witkin 1998.
-void spring_stiffness_product(const MassSpringSettings& s, const Vec3* x, const Vec3* dx, Vec3* out) {
+[[gnu::noinline]] void spring_stiffness_product(const MassSpringSettings& s, const Vec3* x, const Vec3* dx, Vec3* out) {
   const Spring* sp = s.springs.data();
   const std::size_t n = s.springs.size();
   for (std::size_t e = 0; e < n; ++e) {
     const Spring& p = sp[e];
-    const Vec3 d = x[p.j] - x[p.i];
-    const Real inv = safe_inverse_sqrt(d.squaredNorm(), kTinyLength2);
-    const Vec3 u = d * inv;
+    const P3 d = load(x[p.j]) - load(x[p.i]);
+    const Real inv = safe_inverse_sqrt(dot(d, d), kTinyLength2);
+    const P3 u = inv * d;
     const Real c = std::max(Real{0}, 1.0 - p.rest_length * inv);
-    const Vec3 delta = dx[p.j] - dx[p.i];
-    const Vec3 k_delta = p.stiffness * (c * delta + ((1.0 - c) * u.dot(delta)) * u);
-    out[p.i] += k_delta;
-    out[p.j] -= k_delta;
+    const P3 delta = load(dx[p.j]) - load(dx[p.i]);
+    const P3 k_delta = p.stiffness * (c * delta + ((1.0 - c) * dot(u, delta)) * u);
+    add_to(out[p.i], k_delta);
+    subtract_from(out[p.j], k_delta);
   }
 }
 
 // Damping: ∂f_i/∂v_j = λ u uᵀ, ∂f_i/∂v_i = −λ u uᵀ (exact; u does not depend on v).
-void spring_damping_product(const MassSpringSettings& s, const Vec3* x, const Vec3* dv, Vec3* out) {
+[[gnu::noinline]] void spring_damping_product(const MassSpringSettings& s, const Vec3* x, const Vec3* dv, Vec3* out) {
   const Spring* sp = s.springs.data();
   const std::size_t n = s.springs.size();
   for (std::size_t e = 0; e < n; ++e) {
     const Spring& p = sp[e];
-    const Vec3 d = x[p.j] - x[p.i];
-    const Real inv2 = d.squaredNorm() > kTinyLength2 ? 1.0 / d.squaredNorm() : 0.0;
+    const P3 d = load(x[p.j]) - load(x[p.i]);
+    const Real len2 = dot(d, d);
+    const Real inv2 = len2 > kTinyLength2 ? 1.0 / len2 : 0.0;
     // λ u (u·Δv) = λ d (d·Δv)/|d|²: no sqrt needed.
-    const Vec3 g = (p.damping * d.dot(dv[p.j] - dv[p.i]) * inv2) * d;
-    out[p.i] += g;
-    out[p.j] -= g;
+    const P3 g = (p.damping * dot(d, load(dv[p.j]) - load(dv[p.i])) * inv2) * d;
+    add_to(out[p.i], g);
+    subtract_from(out[p.j], g);
   }
 }
 
@@ -120,73 +147,76 @@ void spring_damping_product(const MassSpringSettings& s, const Vec3* x, const Ve
 // Volume: V = Σ_t (a − o)·((b − o) × (c − o))/6 for any origin o (exact for a closed mesh);
 // (a − o)·((b − o) × (c − o)) = (a − o)·n, and we take o = the current position of the first
 // triangle's first vertex so the sum is accurate however far the organ is from the world origin.
+// (Its contribution to the gradient is zero: V does not depend on o for a closed mesh.)
 // ∂V/∂x_v = Σ_{t∋v} (b_t − o) × (c_t − o)/6 (a, b, c cyclic with v = a). Around a closed vertex
 // ring Σ (c_t − b_t) = 0, so the sum does not depend on o; choosing o = x_v gives
 //   ∂V/∂x_v = Σ_{t∋v} n_t/6,
 // i.e. each triangle pushes all three corners by n_t/6: a pressure p = −κ_V (V − V0),
 // κ_V = k_volume/V0, on every triangle. Two passes over the triangles: V, then the pressure.
+// (On an open mesh this per-triangle form is not the gradient of anything: settings.closed
+// switches the term off there.)
 
 /// Corner positions and n = (b − a) × (c − a) of triangle t.
 struct TriangleGeometry {
-  Vec3 a, b, c, n;
+  P3 a, b, c, n;
 };
 inline TriangleGeometry triangle_geometry(const Triangle& tri, const Vec3* x) {
-  const Vec3& a = x[tri[0]];
-  const Vec3& b = x[tri[1]];
-  const Vec3& c = x[tri[2]];
-  return {a, b, c, (b - a).cross(c - a)};
+  const P3 a = load(x[tri[0]]);
+  const P3 b = load(x[tri[1]]);
+  const P3 c = load(x[tri[2]]);
+  return {a, b, c, cross(b - a, c - a)};
 }
 
-/// One pass: the area forces (when kArea) and the current volume V (when kVolume; else 0).
-template <bool kArea, bool kVolume>
-Real area_forces_and_volume(const MassSpringSettings& s, const Vec3* x, Vec3* f) {
+// Each pass below is its own (non-inlined) loop: fusing the area pass with the volume sum, or
+// inlining the loops into one function, made GCC spill registers and ran up to 1.8× slower on
+// the liver than separate passes (measured with g++ 12 -O3, SSE2).
+
+/// Area forces f_a += −κ (A − A0) ∂A/∂x_a over all triangles.
+[[gnu::noinline]] void area_forces(const MassSpringSettings& s, const Vec3* x, Vec3* f) {
   const Triangle* tris = s.triangles.data();
   const Real* rest = s.rest_areas.data();
   const std::size_t nt = s.triangles.size();
-  const Real kappa = kArea ? s.k_area / s.mean_rest_area : 0.0;
-  const Vec3 origin = x[tris[0][0]];
-  Real six_v = 0;
+  const Real kappa = s.k_area / s.mean_rest_area;
   for (std::size_t t = 0; t < nt; ++t) {
     const Triangle& tri = tris[t];
     const TriangleGeometry g = triangle_geometry(tri, x);
-    if constexpr (kArea) {
-      const Real n2 = g.n.squaredNorm();
-      const Real inv = safe_inverse_sqrt(n2, kTinyNormal2);
-      const Real area = 0.5 * n2 * inv;
-      // f_a = −κ (A − A0) · ½ n̂ × (c − b) with n̂ = n·inv.
-      const Real coef = -kappa * (area - rest[t]) * 0.5 * inv;
-      f[tri[0]] += coef * g.n.cross(g.c - g.b);
-      f[tri[1]] += coef * g.n.cross(g.a - g.c);
-      f[tri[2]] += coef * g.n.cross(g.b - g.a);
-    }
-    if constexpr (kVolume) six_v += (g.a - origin).dot(g.n);
+    const Real n2 = dot(g.n, g.n);
+    const Real inv = safe_inverse_sqrt(n2, kTinyNormal2);
+    const Real area = 0.5 * n2 * inv;
+    // f_a = −κ (A − A0) · ½ n̂ × (c − b) with n̂ = n·inv (and cyclic for b, c).
+    const Real coef = -kappa * (area - rest[t]) * 0.5 * inv;
+    add_to(f[tri[0]], coef * cross(g.n, g.c - g.b));
+    add_to(f[tri[1]], coef * cross(g.n, g.a - g.c));
+    add_to(f[tri[2]], coef * cross(g.n, g.b - g.a));
+  }
+}
+
+/// V of a closed mesh (m³): Σ (a − o)·n/6 about o = a vertex of the mesh, for accuracy.
+[[gnu::noinline]] Real volume_of(const MassSpringSettings& s, const Vec3* x) {
+  const P3 origin = load(x[s.triangles.front()[0]]);
+  Real six_v = 0;
+  for (const Triangle& tri : s.triangles) {
+    const TriangleGeometry g = triangle_geometry(tri, x);
+    six_v += dot(g.a - origin, g.n);
   }
   return six_v / 6.0;
 }
 
-/// V of a closed mesh (m³), about a vertex of the mesh for accuracy.
-Real volume_of(const MassSpringSettings& s, const Vec3* x) {
-  return area_forces_and_volume<false, true>(s, x, nullptr);
-}
-
 /// Adds scale · n_t/6 to each corner of every triangle (scale · ∂V/∂x on a closed mesh).
-void add_volume_gradient(const MassSpringSettings& s, const Vec3* x, Real scale, Vec3* out) {
+[[gnu::noinline]] void add_volume_gradient(const MassSpringSettings& s, const Vec3* x, Real scale, Vec3* out) {
   const Real w = scale / 6.0;
   for (const Triangle& tri : s.triangles) {
-    const Vec3 g = w * triangle_geometry(tri, x).n;
-    out[tri[0]] += g;
-    out[tri[1]] += g;
-    out[tri[2]] += g;
+    const P3 g = w * triangle_geometry(tri, x).n;
+    add_to(out[tri[0]], g);
+    add_to(out[tri[1]], g);
+    add_to(out[tri[2]], g);
   }
 }
 
 void triangle_forces(const MassSpringSettings& s, const Vec3* x, Vec3* f, const ForceTerms& terms) {
-  const bool area = area_active(s, terms);
-  const bool volume = volume_active(s, terms);
-  if (area && !volume) area_forces_and_volume<true, false>(s, x, f);
-  if (!volume) return;
-  const Real v = area ? area_forces_and_volume<true, true>(s, x, f) : volume_of(s, x);
-  add_volume_gradient(s, x, -s.k_volume / s.rest_volume * (v - s.rest_volume), f);
+  if (area_active(s, terms)) area_forces(s, x, f);
+  if (volume_active(s, terms))  // pressure p = −κ_V (V − V0) on every triangle
+    add_volume_gradient(s, x, -s.k_volume / s.rest_volume * (volume_of(s, x) - s.rest_volume), f);
 }
 
 // Stiffness of the constraints: ∇²E = κ [∇A ∇Aᵀ + (A − A0) ∇²A] (likewise for V). We keep the
@@ -196,43 +226,38 @@ void triangle_forces(const MassSpringSettings& s, const Vec3* x, Vec3* f, const 
 // The product is rank one per triangle: out_a += −κ (∇A·dx) ∂A/∂x_a, with
 // ∇A·dx = Σ_corners ∂A/∂x_corner · dx_corner; for the volume, ∇V·dx = Σ_t (n_t/6)·(dx_a+dx_b+dx_c)
 // is a single scalar over the whole mesh, then every triangle adds −κ_V (∇V·dx) n_t/6.
-template <bool kArea, bool kVolume>
-Real area_stiffness_and_volume_slope(const MassSpringSettings& s, const Vec3* x, const Vec3* dx, Vec3* out) {
+[[gnu::noinline]] void area_stiffness_product(const MassSpringSettings& s, const Vec3* x, const Vec3* dx,
+                                              Vec3* out) {
   const Triangle* tris = s.triangles.data();
   const std::size_t nt = s.triangles.size();
-  const Real kappa = kArea ? s.k_area / s.mean_rest_area : 0.0;
-  Real six_slope = 0;
+  const Real kappa = s.k_area / s.mean_rest_area;
   for (std::size_t t = 0; t < nt; ++t) {
     const Triangle& tri = tris[t];
     const TriangleGeometry g = triangle_geometry(tri, x);
-    const Vec3& da = dx[tri[0]];
-    const Vec3& db = dx[tri[1]];
-    const Vec3& dc = dx[tri[2]];
-    if constexpr (kArea) {
-      const Real inv = safe_inverse_sqrt(g.n.squaredNorm(), kTinyNormal2);
-      const Real half_inv = 0.5 * inv;
-      const Vec3 ga = half_inv * g.n.cross(g.c - g.b);
-      const Vec3 gb = half_inv * g.n.cross(g.a - g.c);
-      const Vec3 gc = half_inv * g.n.cross(g.b - g.a);
-      const Real coef = -kappa * (ga.dot(da) + gb.dot(db) + gc.dot(dc));
-      out[tri[0]] += coef * ga;
-      out[tri[1]] += coef * gb;
-      out[tri[2]] += coef * gc;
-    }
-    if constexpr (kVolume) six_slope += g.n.dot(da + db + dc);
+    const Real half_inv = 0.5 * safe_inverse_sqrt(dot(g.n, g.n), kTinyNormal2);
+    const P3 ga = half_inv * cross(g.n, g.c - g.b);
+    const P3 gb = half_inv * cross(g.n, g.a - g.c);
+    const P3 gc = half_inv * cross(g.n, g.b - g.a);
+    const Real coef = -kappa * (dot(ga, load(dx[tri[0]])) + dot(gb, load(dx[tri[1]])) + dot(gc, load(dx[tri[2]])));
+    add_to(out[tri[0]], coef * ga);
+    add_to(out[tri[1]], coef * gb);
+    add_to(out[tri[2]], coef * gc);
   }
+}
+
+/// ∇V·dx = Σ_t (n_t/6)·(dx_a + dx_b + dx_c) (m³).
+[[gnu::noinline]] Real volume_slope(const MassSpringSettings& s, const Vec3* x, const Vec3* dx) {
+  Real six_slope = 0;
+  for (const Triangle& tri : s.triangles)
+    six_slope += dot(triangle_geometry(tri, x).n, load(dx[tri[0]]) + load(dx[tri[1]]) + load(dx[tri[2]]));
   return six_slope / 6.0;
 }
 
 void triangle_stiffness_product(const MassSpringSettings& s, const Vec3* x, const Vec3* dx, Vec3* out,
                                 const ForceTerms& terms) {
-  const bool area = area_active(s, terms);
-  const bool volume = volume_active(s, terms);
-  if (area && !volume) area_stiffness_and_volume_slope<true, false>(s, x, dx, out);
-  if (!volume) return;
-  const Real slope = area ? area_stiffness_and_volume_slope<true, true>(s, x, dx, out)
-                          : area_stiffness_and_volume_slope<false, true>(s, x, dx, out);
-  add_volume_gradient(s, x, -s.k_volume / s.rest_volume * slope, out);
+  if (area_active(s, terms)) area_stiffness_product(s, x, dx, out);
+  if (volume_active(s, terms))
+    add_volume_gradient(s, x, -s.k_volume / s.rest_volume * volume_slope(s, x, dx), out);
 }
 
 }  // namespace
@@ -265,7 +290,8 @@ Real potential_energy(const MassSpringSettings& s, std::span<const Vec3> x, cons
   if (area_active(s, terms)) {
     Real sum = 0;
     for (std::size_t t = 0; t < s.triangles.size(); ++t) {
-      const Real da = 0.5 * triangle_geometry(s.triangles[t], xp).n.norm() - s.rest_areas[t];
+      const P3 n = triangle_geometry(s.triangles[t], xp).n;
+      const Real da = 0.5 * std::sqrt(dot(n, n)) - s.rest_areas[t];
       sum += da * da;
     }
     e += 0.5 * s.k_area / s.mean_rest_area * sum;
