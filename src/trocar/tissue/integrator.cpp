@@ -45,15 +45,9 @@ MassSpringIntegrator::MassSpringIntegrator(const MassSpringSettings& settings, I
   direction_.assign(n, Vec3::Zero());
   product_.assign(n, Vec3::Zero());
   scratch_.assign(n, Vec3::Zero());
-  inverse_diagonal_.assign(n, 0.0);
-  spring_damping_sum_.assign(n, 0.0);
-  spring_stiffness_sum_.assign(n, 0.0);
-  for (const Spring& sp : settings.springs) {
-    spring_damping_sum_[sp.i] += sp.damping;
-    spring_damping_sum_[sp.j] += sp.damping;
-    spring_stiffness_sum_[sp.i] += sp.stiffness;
-    spring_stiffness_sum_[sp.j] += sp.stiffness;
-  }
+  inverse_diagonal_.assign(n, Vec3::Zero());
+  volume_gradient_.assign(n, Vec3::Zero());
+  spring_cache_.resize(settings.springs.size());
 }
 
 StepStats MassSpringIntegrator::step(MassSpringState& state, const TissueLoads& loads, Real dt) {

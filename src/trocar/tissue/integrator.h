@@ -58,22 +58,32 @@ class MassSpringIntegrator {
   void begin_step(MassSpringState& state, const TissueLoads& loads);
   /// Restores the fixed vertices' positions bit for bit and zeroes their velocities.
   void end_step(MassSpringState& state) const;
-  /// out = A·p with A = M − h·∂f/∂v − h²·∂f/∂x (contacts included), filtered (0 at fixed
-  /// vertices); needs scratch_ = h·p and product_ = 0 on entry. Returns p·A·p.
-  Real apply_system(const MassSpringState& state, const TissueLoads& loads, Real h);
+  /// One spring's linearisation for the current step (see integrator_implicit.cpp):
+  /// (∂f/∂v + h·∂f/∂x) applied to δ = p_j − p_i is a·(u·δ)·u + b·δ on i and its negative on j.
+  struct CachedSpring {
+    Vec3 u;              ///< unit direction x_j − x_i (0 when degenerate)
+    Real a = 0;          ///< λ + h·k·(1 − c) (N·s/m), c the clamped transverse factor
+    Real b = 0;          ///< h·k·c (N·s/m)
+    std::uint32_t i = 0, j = 0;
+  };
+  /// Builds spring_cache_, volume_gradient_ and the Jacobi diagonal for this step and adds
+  /// ∂f/∂x·v (springs, volume, area, home; contacts separately) to product_.
+  void linearise(const MassSpringState& state, Real h);
+  /// product_ = A·p (direction_), filtered; returns p·A·p. `volume_slope` = ∇V·p.
+  Real apply_system(const MassSpringState& state, const TissueLoads& loads, Real h, Real volume_slope);
 
   const MassSpringSettings& settings_;
   IntegratorKind kind_;
   ImplicitOptions options_;
   ForceTerms terms_;
-  // Scratch, sized V at construction (none for the implicit solve unless kind_ is implicit).
-  // Implicit: dv_ is Δv, residual_ the CG residual r, direction_ the direction p, scratch_
-  // h·p, product_ first ∂f/∂x·v then A·p.
+  // Scratch, sized V at construction (the implicit solve's only for the implicit kind).
+  // Implicit: dv_ is Δv, residual_ the CG residual r, direction_ the direction p, product_
+  // A·p, scratch_ the area term's ∂f/∂x·p.
   std::vector<Vec3> forces_, dv_, residual_, direction_, product_, scratch_;
-  std::vector<Real> inverse_diagonal_;   ///< Jacobi preconditioner 1/A_ii (0 at fixed vertices)
+  std::vector<Vec3> inverse_diagonal_;   ///< Jacobi preconditioner 1/A_ii per coordinate (0 at fixed)
+  std::vector<Vec3> volume_gradient_;    ///< ∇V at this step's positions (m²)
+  std::vector<CachedSpring> spring_cache_;  ///< per spring, rebuilt once per implicit step
   std::vector<Real> free_;               ///< 1 for free vertices, 0 for fixed (the filter S)
-  std::vector<Real> spring_damping_sum_; ///< Σ λ over the springs at each vertex (N·s/m)
-  std::vector<Real> spring_stiffness_sum_;  ///< Σ k over the springs at each vertex (N/m)
   std::vector<std::uint32_t> fixed_indices_;  ///< the fixed vertices
   std::vector<Vec3> fixed_positions_;    ///< their positions at the start of a step
 };

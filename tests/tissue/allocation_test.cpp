@@ -1,0 +1,94 @@
+// No heap allocation inside MassSpringIntegrator::step (DESIGN.md §3), not even on the first
+// step: a counting global operator new (replacing the one of this whole test binary; it only
+// counts while a window is open) around step() for every integrator, with contacts present.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstdlib>
+#include <new>
+
+#include "trocar/mesh/generate.h"
+#include "trocar/tissue/integrator.h"
+
+namespace {
+std::atomic<bool> g_counting{false};
+std::atomic<long> g_allocations{0};
+
+void* counted_allocate(std::size_t size) {
+  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
+  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
+  throw std::bad_alloc();
+}
+}  // namespace
+
+void* operator new(std::size_t size) { return counted_allocate(size); }
+void* operator new[](std::size_t size) { return counted_allocate(size); }
+void* operator new(std::size_t size, const std::nothrow_t&) noexcept {
+  try {
+    return counted_allocate(size);
+  } catch (...) {
+    return nullptr;
+  }
+}
+void* operator new[](std::size_t size, const std::nothrow_t&) noexcept {
+  try {
+    return counted_allocate(size);
+  } catch (...) {
+    return nullptr;
+  }
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete[](void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+void operator delete(void* p, const std::nothrow_t&) noexcept { std::free(p); }
+void operator delete[](void* p, const std::nothrow_t&) noexcept { std::free(p); }
+
+namespace trocar {
+namespace {
+
+TEST(IntegratorAllocation, StepNeverAllocates) {
+  // The counter works.
+  g_allocations = 0;
+  g_counting = true;
+  auto* probe = new std::vector<int>(10);
+  g_counting = false;
+  delete probe;
+  ASSERT_EQ(g_allocations.load(), 2);
+
+  MassSpringMaterial m;
+  m.mass = 0.1;
+  m.k_area = 10;
+  m.k_volume = 1e4;
+  m.k_home = 1;
+  FixedSelection fixed;
+  fixed.indices = {0, 1, 2};
+  const MassSpringSettings s = MassSpringSettings::build(make_icosphere(0.05, 2), m, fixed, Vec3(0, 0, -9.81));
+  for (IntegratorKind kind :
+       {IntegratorKind::kExplicitEuler, IntegratorKind::kSemiImplicitEuler, IntegratorKind::kImplicitEuler}) {
+    MassSpringState state = MassSpringState::at_rest(s);
+    MassSpringIntegrator integ(s, kind);
+    TissueLoads loads;
+    loads.reset(s.vertex_count(), 16);
+    g_allocations = 0;
+    for (int n = 0; n < 50; ++n) {
+      loads.clear();
+      for (std::uint32_t t = 0; t < 8; ++t) {
+        const Triangle& tri = s.triangles[t * 10];
+        loads.contacts.push_back({{tri[0], tri[1], tri[2]}, {0.2, 0.3, 0.5}, Vec3(0, 0, 1), 500, 0.01});
+        loads.forces[tri[0]] += Vec3(0, 0, 0.01);
+      }
+      g_counting = true;
+      const StepStats stats = integ.step(state, loads, 1e-4);
+      g_counting = false;
+      ASSERT_TRUE(stats.finite);
+      if (kind == IntegratorKind::kImplicitEuler && n > 0) {
+        EXPECT_GT(stats.cg_iterations, 0);
+      }
+    }
+    EXPECT_EQ(g_allocations.load(), 0) << integrator_name(kind);
+  }
+}
+
+}  // namespace
+}  // namespace trocar
