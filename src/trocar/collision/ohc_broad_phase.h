@@ -1,0 +1,115 @@
+#pragma once
+/// OHC: the cascaded, hashed spatial-occupancy broad phase (object AABBs → grid cells →
+/// empty / solo / potential-colliding cells → candidate pairs). See docs/collision.md.
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "trocar/collision/broad_phase.h"
+
+namespace trocar {
+
+/// OHC tuning. The defaults are what the simulator uses.
+struct OhcSettings {
+  /// Grid cell edge (metres); 0 = automatic: auto_cell_factor × the mean edge length of the
+  /// primitives hashed this frame (those in the objects' box overlaps).
+  Real cell_size = 0;
+  /// Multiplier of the mean edge length for the automatic cell size (dimensionless).
+  Real auto_cell_factor = 1.0;
+  /// Object-level cascade: hash only the primitives whose box touches the overlap of their
+  /// object's box with a partner's box. false hashes every primitive of every object that
+  /// overlaps a partner (for tests and measurements of what the cascade saves).
+  bool cascade = true;
+  /// Upper bound on (primitive, cell) entries per hashed primitive, on average: when a frame
+  /// would need more (a few huge triangles among tiny ones), the cell size is doubled until it
+  /// fits. Keeps memory and time O(primitives) whatever the size mix (dimensionless).
+  Real max_cells_per_primitive = 64;
+};
+
+/// What one find_pairs() call did (all counts for that frame only).
+struct OhcStats {
+  std::uint32_t objects_overlapping = 0;  ///< tested object pairs whose boxes overlap
+  std::uint32_t primitives_hashed = 0;    ///< triangles that passed the cascade
+  std::uint64_t entries = 0;              ///< (primitive, cell) entries in the hash table
+  std::uint32_t table_size = 0;           ///< hash table slots (power of two, ≥ 2·entries)
+  /// Cells of the grid block spanned by the hashed boxes that no primitive touches.
+  std::uint64_t empty_cells = 0;
+  std::uint64_t cells_touched = 0;        ///< distinct cells holding at least one primitive
+  std::uint64_t solo_cells = 0;           ///< touched cells whose primitives are of one object
+  std::uint64_t potential_cells = 0;      ///< touched cells with primitives of > 1 object
+  std::uint64_t candidate_pairs = 0;      ///< pairs returned (after the box test and dedup)
+  Real cell_size = 0;                     ///< cell edge used this frame (metres)
+};
+
+/// The cascaded spatial-hash broad phase.
+///
+/// Per frame, O(vertices + triangles of the overlapping objects + hashed entries):
+///  1. object boxes; tested pairs (roles, not the same object) whose boxes overlap;
+///  2. per object, the region of interest = bounding box of its overlaps with its partners;
+///     vertex outcodes against it and the AND of a triangle's three outcodes reject, without
+///     building its box, every triangle whose box misses the region; the rest are hashed with
+///     their boxes clipped to the region;
+///  3. cells of edge h on a lattice anchored at the world origin; each hashed box is entered in
+///     every cell it touches; cell (x, y, z) goes to slot
+///     h(x,y,z) = (x·73856093 ⊕ y·19349663 ⊕ z·83492791) mod n (Teschner et al. 2003,
+///     n a power of two, the upper half folded into the lower before masking);
+///  4. a counting sort puts each slot's entries together (flat arrays, no lists); a slot's
+///     entries are sorted by cell, so hash collisions separate again; each cell is solo or
+///     potential-colliding, and only potential-colliding cells emit pairs;
+///  5. a pair (a, b) of different objects is emitted only from the cell that contains the
+///     minimum corner of the overlap of the two (clipped) boxes — the one cell both are sure to
+///     share — so each pair is emitted once without a global set.
+/// Buffers grow only when a frame needs more; after that no allocation.
+class OhcBroadPhase final : public BroadPhase {
+ public:
+  /// Default settings (automatic cell size, cascade on).
+  OhcBroadPhase() = default;
+  /// Given settings.
+  explicit OhcBroadPhase(const OhcSettings& settings) : settings_(settings) {}
+
+  void find_pairs(std::span<const CollisionObject> objects, std::vector<CandidatePair>& out) override;
+  BroadPhaseKind kind() const override { return BroadPhaseKind::kOhc; }
+
+  const OhcSettings& settings() const { return settings_; }          ///< current settings
+  void set_settings(const OhcSettings& settings) { settings_ = settings; }  ///< for the next frame
+  const OhcStats& stats() const { return stats_; }                    ///< the last frame's counts
+
+  /// The hash of cell (x, y, z) before the modulo (Teschner et al. 2003 with the fold).
+  static std::uint32_t cell_hash(std::int32_t x, std::int32_t y, std::int32_t z) {
+    const std::uint32_t h = (static_cast<std::uint32_t>(x) * 73856093u) ^
+                            (static_cast<std::uint32_t>(y) * 19349663u) ^
+                            (static_cast<std::uint32_t>(z) * 83492791u);
+    return h ^ (h >> 16);
+  }
+
+ private:
+  /// A triangle that passed the cascade: its clipped box and its cell range.
+  struct Primitive {
+    Vec3 min;                  ///< clipped box, lower corner
+    Vec3 max;                  ///< clipped box, upper corner
+    std::int32_t lo[3];        ///< first cell per axis
+    std::int32_t hi[3];        ///< last cell per axis
+    std::uint32_t object;      ///< object index
+    std::uint32_t triangle;    ///< triangle index in that object
+  };
+  /// One (primitive, cell) entry of the table.
+  struct Entry {
+    std::int32_t x, y, z;      ///< cell
+    std::uint32_t primitive;   ///< index into primitives_
+  };
+
+  void emit_cell_pairs(std::span<const Entry> cell, std::span<const CollisionObject> objects,
+                       std::vector<CandidatePair>& out);
+
+  OhcSettings settings_;
+  OhcStats stats_;
+  std::vector<Aabb> boxes_;            // per object
+  std::vector<Aabb> regions_;          // per object: bounding box of its overlaps
+  std::vector<std::uint8_t> tested_;   // objects² flags: pair tested and boxes overlap
+  std::vector<std::uint8_t> outcodes_; // per vertex of the object being cascaded
+  std::vector<Primitive> primitives_;
+  std::vector<std::uint32_t> slot_start_;  // table_size + 1 (counting sort)
+  std::vector<Entry> entries_;
+};
+
+}  // namespace trocar
