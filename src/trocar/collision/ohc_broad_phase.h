@@ -87,8 +87,8 @@ class OhcBroadPhase final : public BroadPhase {
   struct Primitive {
     Vec3 min;                  ///< clipped box, lower corner
     Vec3 max;                  ///< clipped box, upper corner
-    std::int32_t lo[3];        ///< first cell per axis
-    std::int32_t hi[3];        ///< last cell per axis
+    std::int32_t lo[3] = {0, 0, 0};  ///< first cell per axis
+    std::int32_t hi[3] = {0, 0, 0};  ///< last cell per axis
     std::uint32_t object;      ///< object index
     std::uint32_t triangle;    ///< triangle index in that object
   };

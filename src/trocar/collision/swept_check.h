@@ -9,6 +9,11 @@
 
 namespace trocar {
 
+/// Relative contact tolerance of the swept test: at a coplanarity time the features touch when
+/// their distance is at most kSweptTolerance × the largest side of the four points' box
+/// (dimensionless; loose enough for the bisected root, far below any feature size).
+inline constexpr Real kSweptTolerance = 1e-7;
+
 /// One object at the start and the end of a step (same triangles, same vertex count).
 struct SweptObject {
   std::span<const Vec3> positions_start;  ///< world positions at the earlier frame (metres)
@@ -36,7 +41,7 @@ struct SweptCheckResult {
 /// Vertex–triangle and edge–edge continuous tests (Provot 1997; Bridson, Fedkiw and Anderson
 /// 2002): with every vertex moving linearly from start to end, the coplanarity times of four
 /// points are the roots in [0, 1] of a cubic; at each root the features are tested for contact
-/// (point in triangle, or segments meeting) within a tolerance of 1e-9 of the pair's size.
+/// (point in triangle, or segments meeting) within kSweptTolerance of the four points' extent.
 /// Candidates come from an AABB tree over the tissue's swept triangle boxes queried with each
 /// instrument triangle's swept box; features shared by several triangle pairs are counted once.
 /// Allocates (it is a measuring tool). Throws trocar::Error when start and end vertex counts
