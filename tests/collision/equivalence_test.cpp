@@ -35,8 +35,8 @@ TEST(BroadPhaseEquivalence, SoupsWithSetCellSizes) {
   // Cell sizes from far below to far above the triangle size, including all-in-one-cell.
   std::mt19937 rng(99);
   Scene scene;
-  scene.add(test::random_soup(rng, 200, Vec3::Zero(), 1.0, 0.4), ObjectRole::kInstrument);
-  scene.add(test::random_soup(rng, 300, Vec3(0.2, 0.0, 0.1), 1.0, 0.4), ObjectRole::kTissue);
+  scene.add(test::random_soup(rng, 200, Vec3(5, 5, 5), 1.0, 0.4), ObjectRole::kInstrument);
+  scene.add(test::random_soup(rng, 300, Vec3(5.2, 5.0, 5.1), 1.0, 0.4), ObjectRole::kTissue);
   const auto objects = scene.objects();
   const auto reference = test::contacts_with(BroadPhaseKind::kBruteForce, objects);
   ASSERT_GT(reference.size(), 50u);
@@ -48,7 +48,7 @@ TEST(BroadPhaseEquivalence, SoupsWithSetCellSizes) {
     test::expect_same_contacts(reference, {found.begin(), found.end()}, "cell " + std::to_string(h));
     test::expect_unique_candidates(ohc.candidates(), objects, "cell " + std::to_string(h));
     if (h == 1000.0) {
-      EXPECT_EQ(ohc.ohc_stats()->cells_touched, 1u);  // every primitive in one cell
+      EXPECT_EQ(ohc.ohc_stats()->cells_touched, 1u);  // every primitive in cell (0, 0, 0)
       EXPECT_EQ(ohc.ohc_stats()->potential_cells, 1u);
     }
   }
@@ -111,7 +111,9 @@ TEST(BroadPhaseEquivalence, MovingSharedMeshes) {
       test::expect_same_contacts({b.begin(), b.end()}, {a.begin(), a.end()}, what + " ohc vs bvh");
       test::expect_unique_candidates(ohc.candidates(), objects, what);
       contacts += a.size();
-      if (frame == 0) {  // brute force once per mesh pair (millions of tests)
+      // Brute force once on the liver pairs (4–7 million tests each); the gallbladder pairs
+      // (14–24 million) rely on BVH, itself checked against brute force everywhere else.
+      if (frame == 0 && std::string(sc.tissue).starts_with("liver")) {
         const auto c = test::contacts_with(BroadPhaseKind::kBruteForce, objects);
         test::expect_same_contacts(c, {a.begin(), a.end()}, what + " ohc vs brute");
       }

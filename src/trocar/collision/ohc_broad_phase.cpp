@@ -3,6 +3,11 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <limits>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 namespace trocar {
 namespace {
@@ -17,15 +22,138 @@ std::int32_t cell_of(Real x, Real inv_h) {
   return static_cast<std::int32_t>(std::clamp(c, -kCellClamp, kCellClamp));
 }
 
-// Outcode of p against box [lo, hi]: bit 2k set when p[k] < lo[k], bit 2k+1 when p[k] > hi[k].
-// A triangle's box misses the box iff some bit is set in all three corners' codes (all three
-// corners beyond the same face), so c0 & c1 & c2 == 0 is exactly "the triangle's box overlaps".
-std::uint8_t outcode(const Vec3& p, const Real lo[3], const Real hi[3]) {
-  return static_cast<std::uint8_t>((p[0] < lo[0]) | ((p[0] > hi[0]) << 1) | ((p[1] < lo[1]) << 2) |
-                                   ((p[1] > hi[1]) << 3) | ((p[2] < lo[2]) << 4) | ((p[2] > hi[2]) << 5));
+// Spreads the low 21 bits of x to every third bit (Morton code helper).
+std::uint64_t spread_bits(std::uint64_t x) {
+  x &= 0x1fffff;
+  x = (x | x << 32) & 0x1f00000000ffffULL;
+  x = (x | x << 16) & 0x1f0000ff0000ffULL;
+  x = (x | x << 8) & 0x100f00f00f00f00fULL;
+  x = (x | x << 4) & 0x10c30c30c30c30c3ULL;
+  x = (x | x << 2) & 0x1249249249249249ULL;
+  return x;
 }
 
 }  // namespace
+
+void OhcBroadPhase::build_clusters(ObjectClusters& c, const CollisionObject& object) {
+  c.triangles = object.triangles.data();
+  c.triangle_count = object.triangles.size();
+  c.vertex_count = object.positions.size();
+  const auto n = static_cast<std::uint32_t>(object.triangles.size());
+  // Morton order of the centroids (21 bits per axis over the centroids' box): consecutive
+  // triangles are close, so clusters of consecutive triangles are compact patches.
+  Aabb centre_box;
+  std::vector<Vec3> centres(n);
+  for (std::uint32_t t = 0; t < n; ++t) {
+    const Triangle& tri = object.triangles[t];
+    centres[t] = (object.positions[tri[0]] + object.positions[tri[1]] + object.positions[tri[2]]) / 3.0;
+    if (centres[t].allFinite()) centre_box.expand(centres[t]);
+  }
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(n);
+  const Vec3 extent = centre_box.is_empty() ? Vec3(Vec3::Ones()) : Vec3(centre_box.size().cwiseMax(1e-300));
+  for (std::uint32_t t = 0; t < n; ++t) {
+    std::uint64_t code = 0;
+    if (centres[t].allFinite() && !centre_box.is_empty()) {
+      for (int k = 0; k < 3; ++k) {
+        const Real u = std::clamp((centres[t][k] - centre_box.min[k]) / extent[k], 0.0, 1.0);
+        code |= spread_bits(static_cast<std::uint64_t>(u * 2097151.0)) << k;
+      }
+    }
+    keyed[t] = {code, t};
+  }
+  std::sort(keyed.begin(), keyed.end());
+  c.order.resize(n);
+  for (std::uint32_t t = 0; t < n; ++t) c.order[t] = keyed[t].second;
+  const std::uint32_t clusters = (n + kClusterTriangles - 1) / kClusterTriangles;
+  c.vertex_start.assign(clusters + 1, 0);
+  c.vertices.clear();
+  std::vector<std::uint32_t> ids;
+  for (std::uint32_t k = 0; k < clusters; ++k) {
+    ids.clear();
+    for (std::uint32_t t = k * kClusterTriangles; t < std::min(n, (k + 1) * kClusterTriangles); ++t) {
+      for (const std::uint32_t v : object.triangles[c.order[t]]) ids.push_back(v);
+    }
+    std::sort(ids.begin(), ids.end());
+    ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+    c.vertices.insert(c.vertices.end(), ids.begin(), ids.end());
+    c.vertex_start[k + 1] = static_cast<std::uint32_t>(c.vertices.size());
+  }
+  c.boxes.resize(clusters);
+}
+
+Aabb OhcBroadPhase::refit_clusters(ObjectClusters& c, const CollisionObject& object) {
+  const Vec3* p = object.positions.data();
+  const std::uint32_t* ids = c.vertices.data();
+  constexpr Real kInf = std::numeric_limits<Real>::infinity();
+  Real olo[3] = {kInf, kInf, kInf};
+  Real ohi[3] = {-kInf, -kInf, -kInf};
+  for (std::size_t k = 0; k + 1 < c.vertex_start.size(); ++k) {
+    const std::uint32_t begin = c.vertex_start[k];
+    const std::uint32_t end = c.vertex_start[k + 1];
+    Real lo[3];
+    Real hi[3];
+#if defined(__SSE2__)
+    // x and y packed in one register, z alone; two accumulators break the min/max latency chain
+    // (this loop is the one pass over the positions that the cascade needs).
+    __m128d lo_xy0 = _mm_set1_pd(kInf), lo_xy1 = lo_xy0, hi_xy0 = _mm_set1_pd(-kInf), hi_xy1 = hi_xy0;
+    __m128d lo_z0 = _mm_set_sd(kInf), lo_z1 = lo_z0, hi_z0 = _mm_set_sd(-kInf), hi_z1 = hi_z0;
+    std::uint32_t i = begin;
+    for (; i + 1 < end; i += 2) {
+      const Real* x0 = p[ids[i]].data();
+      const Real* x1 = p[ids[i + 1]].data();
+      const __m128d xy0 = _mm_loadu_pd(x0);
+      const __m128d xy1 = _mm_loadu_pd(x1);
+      const __m128d z0 = _mm_load_sd(x0 + 2);
+      const __m128d z1 = _mm_load_sd(x1 + 2);
+      lo_xy0 = _mm_min_pd(lo_xy0, xy0);
+      hi_xy0 = _mm_max_pd(hi_xy0, xy0);
+      lo_xy1 = _mm_min_pd(lo_xy1, xy1);
+      hi_xy1 = _mm_max_pd(hi_xy1, xy1);
+      lo_z0 = _mm_min_sd(lo_z0, z0);
+      hi_z0 = _mm_max_sd(hi_z0, z0);
+      lo_z1 = _mm_min_sd(lo_z1, z1);
+      hi_z1 = _mm_max_sd(hi_z1, z1);
+    }
+    if (i < end) {
+      const Real* x0 = p[ids[i]].data();
+      const __m128d xy0 = _mm_loadu_pd(x0);
+      const __m128d z0 = _mm_load_sd(x0 + 2);
+      lo_xy0 = _mm_min_pd(lo_xy0, xy0);
+      hi_xy0 = _mm_max_pd(hi_xy0, xy0);
+      lo_z0 = _mm_min_sd(lo_z0, z0);
+      hi_z0 = _mm_max_sd(hi_z0, z0);
+    }
+    _mm_storeu_pd(lo, _mm_min_pd(lo_xy0, lo_xy1));
+    _mm_storeu_pd(hi, _mm_max_pd(hi_xy0, hi_xy1));
+    _mm_store_sd(lo + 2, _mm_min_sd(lo_z0, lo_z1));
+    _mm_store_sd(hi + 2, _mm_max_sd(hi_z0, hi_z1));
+#else
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = kInf;
+      hi[a] = -kInf;
+    }
+    for (std::uint32_t i = begin; i < end; ++i) {
+      const Real* x = p[ids[i]].data();
+      for (int a = 0; a < 3; ++a) {
+        lo[a] = std::min(lo[a], x[a]);
+        hi[a] = std::max(hi[a], x[a]);
+      }
+    }
+#endif
+    c.boxes[k].min = Vec3(lo[0], lo[1], lo[2]);
+    c.boxes[k].max = Vec3(hi[0], hi[1], hi[2]);
+    for (int a = 0; a < 3; ++a) {
+      olo[a] = std::min(olo[a], lo[a]);
+      ohi[a] = std::max(ohi[a], hi[a]);
+    }
+  }
+  Aabb box;
+  if (c.boxes.empty()) return box;
+  box.min = Vec3(olo[0], olo[1], olo[2]);
+  box.max = Vec3(ohi[0], ohi[1], ohi[2]);
+  // The same inflation as object_box() (of the referenced vertices only).
+  return box.inflated(kBoxMargin * box.size().maxCoeff());
+}
 
 void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::vector<CandidatePair>& out) {
   out.clear();
@@ -38,7 +166,16 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
   boxes_.resize(n);
   regions_.assign(n, Aabb{});
   tested_.assign(static_cast<std::size_t>(n) * n, 0);
-  for (std::uint32_t i = 0; i < n; ++i) boxes_[i] = object_box(objects[i]);
+  if (clusters_.size() < n) clusters_.resize(n);
+  for (std::uint32_t i = 0; i < n; ++i) {
+    ObjectClusters& c = clusters_[i];
+    const CollisionObject& object = objects[i];
+    if (c.triangles != object.triangles.data() || c.triangle_count != object.triangles.size() ||
+        c.vertex_count != object.positions.size()) {
+      build_clusters(c, object);  // first frame or another object: allocates
+    }
+    boxes_[i] = refit_clusters(c, object);
+  }
   for (std::uint32_t i = 0; i < n; ++i) {
     if (boxes_[i].is_empty()) continue;
     for (std::uint32_t j = i + 1; j < n; ++j) {
@@ -70,33 +207,33 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
     const Aabb& region = regions_[i];
     if (region.is_empty()) continue;
     const CollisionObject& object = objects[i];
+    const ObjectClusters& c = clusters_[i];
     const Vec3* p = object.positions.data();
-    const auto triangle_count = static_cast<std::uint32_t>(object.triangles.size());
     const Triangle* tris = object.triangles.data();
-    // The triangle margin is at most kBoxMargin·(object size): test the raw corners against the
-    // region grown by that much, then clip the inflated box (dropping the few that miss).
+    // A triangle's margin is at most kBoxMargin·(object size): test the raw cluster boxes
+    // against the region grown by that much, then clip the inflated triangle boxes.
     const Aabb grown = region.inflated(kBoxMargin * boxes_[i].size().maxCoeff());
-    const Real lo[3] = {grown.min.x(), grown.min.y(), grown.min.z()};
-    const Real hi[3] = {grown.max.x(), grown.max.y(), grown.max.z()};
-    outcodes_.resize(object.positions.size());
-    std::uint8_t* codes = outcodes_.data();
-    for (std::size_t v = 0; v < object.positions.size(); ++v) codes[v] = outcode(p[v], lo, hi);
-    for (std::uint32_t t = 0; t < triangle_count; ++t) {
-      const Triangle& tri = tris[t];
-      if ((codes[tri[0]] & codes[tri[1]] & codes[tri[2]]) != 0) continue;
-      const Vec3& a = p[tri[0]];
-      const Vec3& b = p[tri[1]];
-      const Vec3& c = p[tri[2]];
-      const Aabb box = triangle_box(a, b, c).intersection(region);
-      if (box.is_empty()) continue;
-      Primitive prim;
-      prim.min = box.min;
-      prim.max = box.max;
-      prim.object = i;
-      prim.triangle = t;
-      primitives_.push_back(prim);
-      edge_sum += (b - a).norm() + (c - b).norm() + (a - c).norm();
-      edge_count += 3;
+    const auto triangle_count = static_cast<std::uint32_t>(object.triangles.size());
+    for (std::uint32_t k = 0; k < c.boxes.size(); ++k) {
+      if (!c.boxes[k].overlaps(grown)) continue;
+      const std::uint32_t end = std::min(triangle_count, (k + 1) * kClusterTriangles);
+      for (std::uint32_t o = k * kClusterTriangles; o < end; ++o) {
+        const std::uint32_t t = c.order[o];
+        const Triangle& tri = tris[t];
+        const Vec3& a = p[tri[0]];
+        const Vec3& b = p[tri[1]];
+        const Vec3& cc = p[tri[2]];
+        const Aabb box = triangle_box(a, b, cc).intersection(region);
+        if (box.is_empty()) continue;
+        Primitive prim;
+        prim.min = box.min;
+        prim.max = box.max;
+        prim.object = i;
+        prim.triangle = t;
+        primitives_.push_back(prim);
+        edge_sum += (b - a).norm() + (cc - b).norm() + (a - cc).norm();
+        edge_count += 3;
+      }
     }
   }
   stats_.primitives_hashed = static_cast<std::uint32_t>(primitives_.size());

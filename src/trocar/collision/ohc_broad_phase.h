@@ -44,11 +44,14 @@ struct OhcStats {
 /// The cascaded spatial-hash broad phase.
 ///
 /// Per frame, O(vertices + triangles of the overlapping objects + hashed entries):
-///  1. object boxes; tested pairs (roles, not the same object) whose boxes overlap;
+///  1. object boxes (from the cluster boxes of step 2); tested pairs (roles, not the same object) whose boxes overlap;
 ///  2. per object, the region of interest = bounding box of its overlaps with its partners;
-///     vertex outcodes against it and the AND of a triangle's three outcodes reject, without
-///     building its box, every triangle whose box misses the region; the rest are hashed with
-///     their boxes clipped to the region;
+///     the triangles are grouped once (when an object is first seen) into clusters of
+///     kClusterTriangles triangles, consecutive in Morton order of their centroids, each with
+///     the list of its vertices; every frame one pass over those lists refits the cluster boxes
+///     (their union is the object box of step 1, so positions are read about once), only
+///     clusters touching the region have their triangles' boxes built, and triangles touching
+///     the region are hashed with their boxes clipped to it;
 ///  3. cells of edge h on a lattice anchored at the world origin; each hashed box is entered in
 ///     every cell it touches; cell (x, y, z) goes to slot
 ///     h(x,y,z) = (x·73856093 ⊕ y·19349663 ⊕ z·83492791) mod n (Teschner et al. 2003,
@@ -62,6 +65,9 @@ struct OhcStats {
 /// Buffers grow only when a frame needs more; after that no allocation.
 class OhcBroadPhase final : public BroadPhase {
  public:
+  /// Triangles per cluster of the cascade's middle level (the last cluster may hold fewer).
+  static constexpr std::uint32_t kClusterTriangles = 32;
+
   /// Default settings (automatic cell size, cascade on).
   OhcBroadPhase() = default;
   /// Given settings.
@@ -98,6 +104,19 @@ class OhcBroadPhase final : public BroadPhase {
     std::uint32_t primitive;   ///< index into primitives_
   };
 
+  /// One object's cached clusters (rebuilt when the object's identity changes).
+  struct ObjectClusters {
+    const Triangle* triangles = nullptr;      ///< identity: triangle span data
+    std::size_t triangle_count = 0;           ///< identity: triangle span size
+    std::size_t vertex_count = 0;             ///< identity: vertex count
+    std::vector<std::uint32_t> order;         ///< triangle ids, cluster after cluster
+    std::vector<std::uint32_t> vertex_start;  ///< per cluster, first entry in vertices (+ end)
+    std::vector<std::uint32_t> vertices;      ///< each cluster's distinct vertex ids, ascending
+    std::vector<Aabb> boxes;                  ///< per cluster: box of its vertices this frame
+  };
+
+  static void build_clusters(ObjectClusters& c, const CollisionObject& object);
+  static Aabb refit_clusters(ObjectClusters& c, const CollisionObject& object);
   void emit_cell_pairs(std::span<const Entry> cell, std::span<const CollisionObject> objects,
                        std::vector<CandidatePair>& out);
 
@@ -106,7 +125,7 @@ class OhcBroadPhase final : public BroadPhase {
   std::vector<Aabb> boxes_;            // per object
   std::vector<Aabb> regions_;          // per object: bounding box of its overlaps
   std::vector<std::uint8_t> tested_;   // objects² flags: pair tested and boxes overlap
-  std::vector<std::uint8_t> outcodes_; // per vertex of the object being cascaded
+  std::vector<ObjectClusters> clusters_;  // per object
   std::vector<Primitive> primitives_;
   std::vector<std::uint32_t> slot_start_;  // table_size + 1 (counting sort)
   std::vector<Entry> entries_;
