@@ -411,7 +411,7 @@ bool peer_available(PeerKind kind) {
 }
 
 bool peer_practical(PeerKind kind, std::size_t tissue_triangles, std::size_t tool_triangles) {
-  if (kind == PeerKind::kBrute) return static_cast<double>(tissue_triangles) * static_cast<double>(tool_triangles) <= 5e7;
+  if (kind == PeerKind::kBrute) return static_cast<double>(tissue_triangles) * static_cast<double>(tool_triangles) <= 1e7;
   if (kind == PeerKind::kFclObbrss) return tissue_triangles <= 100000;
   return true;
 }

@@ -69,8 +69,8 @@ std::vector<PeerKind> all_peer_kinds();
 const char* peer_name(PeerKind kind);
 /// True when the method was compiled in (FCL and Bullet are optional).
 bool peer_available(PeerKind kind);
-/// True when the method is worth running on a scene of this size: brute force only up to 5·10⁷
-/// triangle pairs, FCL OBBRSS only up to 10⁵ tissue triangles (seconds per frame beyond).
+/// True when the method is worth running on a scene of this size: brute force only up to 10⁷
+/// triangle pairs (about 45 ns each), FCL OBBRSS only up to 10⁵ tissue triangles (seconds per frame beyond).
 bool peer_practical(PeerKind kind, std::size_t tissue_triangles, std::size_t tool_triangles);
 
 /// One method of the comparison, set up for one scene (the scene must outlive it).

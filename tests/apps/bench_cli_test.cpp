@@ -1,0 +1,120 @@
+// Runs `trocar bench collision` as a user would, on small meshes made with `trocar mesh generate`.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct RunResult {
+  int exit_code = -1;
+  std::string output;
+};
+
+/// Runs the program; stderr goes to the output too unless `stdout_only`.
+RunResult run(const std::string& args, bool stdout_only = false) {
+  const std::string command = std::string(TROCAR_CLI) + " " + args + (stdout_only ? " 2>/dev/null" : " 2>&1");
+  RunResult result;
+  FILE* pipe = popen(command.c_str(), "r");
+  if (pipe == nullptr) return result;
+  char buffer[4096];
+  std::size_t n = 0;
+  while ((n = fread(buffer, 1, sizeof buffer, pipe)) > 0) result.output.append(buffer, n);
+  const int status = pclose(pipe);
+  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return result;
+}
+
+class BenchCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("trocar_bench_cli_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir_);
+    // A 1,280-triangle sphere of radius 5 cm and a 5 mm capsule (144 triangles) that cuts into it.
+    ASSERT_EQ(run("mesh generate icosphere --radius 0.05 --subdivisions 3 -q -o " + path("tissue.obj")).exit_code, 0);
+    ASSERT_EQ(run("mesh generate capsule --radius 0.005 --length 0.04 --segments 12 --rings 3 -q -o " +
+                  path("tool.stl")).exit_code, 0);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+
+  fs::path dir_;
+};
+
+TEST_F(BenchCli, JsonListsEveryMethodWithTheSamePairCount) {
+  const RunResult r =
+      run("bench collision --tissue " + path("tissue.obj") + " --tool " + path("tool.stl") + " --frames 5 --json", true);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto j = nlohmann::json::parse(r.output);
+  ASSERT_TRUE(j.is_array());
+  ASSERT_GE(j.size(), 3u);  // ohc, bvh and brute at least; FCL and Bullet when compiled in
+  std::set<std::string> methods;
+  for (const auto& m : j) {
+    ASSERT_TRUE(m.is_object());
+    EXPECT_EQ(m.size(), 4u) << m.dump();
+    ASSERT_TRUE(m["method"].is_string());
+    ASSERT_TRUE(m["median_us"].is_number());
+    ASSERT_TRUE(m["p95_us"].is_number());
+    ASSERT_TRUE(m["pairs"].is_number_integer());
+    EXPECT_GE(m["median_us"].get<double>(), 0);
+    EXPECT_GE(m["p95_us"].get<double>(), m["median_us"].get<double>());
+    EXPECT_EQ(m["pairs"], j[0]["pairs"]) << m["method"] << " vs " << j[0]["method"];
+    methods.insert(m["method"].get<std::string>());
+  }
+  EXPECT_TRUE(methods.count("ohc") && methods.count("bvh") && methods.count("brute"));
+  EXPECT_GT(j[0]["pairs"].get<int>(), 0);  // the tool does cut into the tissue
+}
+
+TEST_F(BenchCli, TextTableAndScales) {
+  // The same scene in millimetres through the scale options: same pairs as in metres.
+  const RunResult metres =
+      run("bench collision --tissue " + path("tissue.obj") + " --tool " + path("tool.stl") + " --frames 3 --json", true);
+  const RunResult mm = run("bench collision --tissue " + path("tissue.obj") + " --tool " + path("tool.stl") +
+                               " --frames 3 --json --tissue-scale 1000 --tool-scale 1000",
+                           true);
+  ASSERT_EQ(metres.exit_code, 0) << metres.output;
+  ASSERT_EQ(mm.exit_code, 0) << mm.output;
+  EXPECT_EQ(nlohmann::json::parse(metres.output)[0]["pairs"], nlohmann::json::parse(mm.output)[0]["pairs"]);
+
+  const RunResult text = run("bench collision --tissue " + path("tissue.obj") + " --tool " + path("tool.stl") + " --frames 3");
+  ASSERT_EQ(text.exit_code, 0) << text.output;
+  EXPECT_NE(text.output.find("median_us"), std::string::npos) << text.output;
+  EXPECT_NE(text.output.find("p95_us"), std::string::npos) << text.output;
+  EXPECT_NE(text.output.find("\nohc "), std::string::npos) << text.output;
+  EXPECT_NE(text.output.find("\nbvh "), std::string::npos) << text.output;
+}
+
+TEST_F(BenchCli, MissingFileIsAnErrorNamingIt) {
+  const RunResult r = run("bench collision --tissue " + path("nope.obj") + " --tool " + path("tool.stl") + " --frames 2");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("nope.obj"), std::string::npos) << r.output;
+}
+
+TEST_F(BenchCli, BadAndEmptyMeshesAreErrorsNamingThem) {
+  std::ofstream(path("bad.obj")) << "v 0 0 0\nf 1 2 zz\n";
+  const RunResult bad = run("bench collision --tissue " + path("tissue.obj") + " --tool " + path("bad.obj"));
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_NE(bad.output.find("bad.obj"), std::string::npos) << bad.output;
+
+  std::ofstream(path("empty.obj")) << "v 0 0 0\nv 1 0 0\n";
+  const RunResult empty = run("bench collision --tissue " + path("empty.obj") + " --tool " + path("tool.stl"));
+  EXPECT_NE(empty.exit_code, 0);
+  EXPECT_NE(empty.output.find("empty.obj"), std::string::npos) << empty.output;
+}
+
+TEST_F(BenchCli, RequiresBothMeshes) {
+  const RunResult r = run("bench collision --tissue " + path("tissue.obj"));
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("--tool"), std::string::npos) << r.output;
+}
+
+}  // namespace
