@@ -45,9 +45,13 @@ MassSpringIntegrator::MassSpringIntegrator(const MassSpringSettings& settings, I
   direction_.assign(n, Vec3::Zero());
   product_.assign(n, Vec3::Zero());
   scratch_.assign(n, Vec3::Zero());
-  inverse_diagonal_.assign(n, Vec3::Zero());
+  preconditioner_.resize(n);
+  diagonal_mass_.assign(n, 0.0);
   volume_gradient_.assign(n, Vec3::Zero());
   spring_cache_.resize(settings.springs.size());
+  triangle_cache_.resize(settings.triangles.size());
+  spring_order_.resize(settings.springs.size());
+  for (std::size_t e = 0; e < spring_order_.size(); ++e) spring_order_[e] = static_cast<std::uint32_t>(e);
 }
 
 StepStats MassSpringIntegrator::step(MassSpringState& state, const TissueLoads& loads, Real dt) {

@@ -26,7 +26,10 @@ IntegratorKind integrator_from_name(std::string_view name);
 /// Options of the implicit solve.
 struct ImplicitOptions {
   int max_cg_iterations = 100;   ///< conjugate-gradient iteration cap
-  Real cg_tolerance = 1e-6;      ///< relative residual |r|/|b| to stop at
+  /// CG stops at a relative residual |r|/|b| ≤ cg_tolerance, or when the block-Jacobi estimate
+  /// of the remaining velocity error, max_i |A_ii⁻¹ r_i|, is ≤ cg_tolerance × 0.1 m/s (1e-5 m/s
+  /// at the default; docs/tissue-integrators.md gives the error this leaves).
+  Real cg_tolerance = 1e-4;
 };
 
 /// What one step did (for metrics and tests).
@@ -58,31 +61,46 @@ class MassSpringIntegrator {
   void begin_step(MassSpringState& state, const TissueLoads& loads);
   /// Restores the fixed vertices' positions bit for bit and zeroes their velocities.
   void end_step(MassSpringState& state) const;
-  /// One spring's linearisation for the current step (see integrator_implicit.cpp):
-  /// (∂f/∂v + h·∂f/∂x) applied to δ = p_j − p_i is a·(u·δ)·u + b·δ on i and its negative on j.
+  /// One spring's share of the system matrix A for the current step (see
+  /// integrator_implicit.cpp): with δ = p_j − p_i, g = a (u·δ) u + b δ is subtracted from (A p)_i
+  /// and added to (A p)_j (a, b in N·s/m, see integrator_implicit.cpp).
   struct CachedSpring {
-    Vec3 u;              ///< unit direction x_j − x_i (0 when degenerate)
-    Real a = 0;          ///< λ + h·k·(1 − c) (N·s/m), c the clamped transverse factor
-    Real b = 0;          ///< h·k·c (N·s/m)
-    std::uint32_t i = 0, j = 0;
+    Real u[3];  ///< unit direction x_j − x_i (0 when degenerate)
+    Real a;     ///< h (λ + h k (1 − c))
+    Real b;     ///< h² k c
+    std::uint32_t i, j;
   };
-  /// Builds spring_cache_, volume_gradient_ and the Jacobi diagonal for this step and adds
-  /// ∂f/∂x·v (springs, volume, area, home; contacts separately) to product_.
-  void linearise(const MassSpringState& state, Real h);
-  /// product_ = A·p (direction_), filtered; returns p·A·p. `volume_slope` = ∇V·p.
-  Real apply_system(const MassSpringState& state, const TissueLoads& loads, Real h, Real volume_slope);
+  /// One triangle's Gauss–Newton area stiffness in A: g_c = h √κ ∂A/∂x_c per corner, so the
+  /// triangle adds (Σ_c g_c·p_c) g_c to (A p) at each corner c.
+  struct CachedTriangle {
+    Real g[3][3];
+    std::uint32_t v[3];
+  };
+  /// A symmetric 3×3 block (xx, yy, zz, xy, xz, yz).
+  struct Sym3 {
+    Real m[6];
+  };
+  /// Builds the spring and triangle caches, ∇V, the block-Jacobi preconditioner's diagonal
+  /// blocks (not yet inverted) and b = h (f₀ + h K v₀) (into residual_), for this step.
+  void linearise(const MassSpringState& state, const TissueLoads& loads, Real h);
+  /// product_ = A·p (direction_) on the free vertices (unfiltered at fixed ones, where p = 0);
+  /// returns pᵀ A p, accumulated term by term during the passes. `volume_slope` = ∇V·p.
+  Real apply_system(const TissueLoads& loads, Real h, Real volume_slope);
 
   const MassSpringSettings& settings_;
   IntegratorKind kind_;
   ImplicitOptions options_;
   ForceTerms terms_;
   // Scratch, sized V at construction (the implicit solve's only for the implicit kind).
-  // Implicit: dv_ is Δv, residual_ the CG residual r, direction_ the direction p, product_
-  // A·p, scratch_ the area term's ∂f/∂x·p.
+  // Implicit: dv_ is Δv (kept between steps: the next solve starts from it), residual_ the CG
+  // residual r, direction_ the direction p, product_ A·p, scratch_ the preconditioned z.
   std::vector<Vec3> forces_, dv_, residual_, direction_, product_, scratch_;
-  std::vector<Vec3> inverse_diagonal_;   ///< Jacobi preconditioner 1/A_ii per coordinate (0 at fixed)
+  std::vector<Sym3> preconditioner_;     ///< block Jacobi: (A_ii)⁻¹ per vertex (0 at fixed)
+  std::vector<Real> diagonal_mass_;      ///< m_i (1 + hγ) + h² k_home, for this step's h
   std::vector<Vec3> volume_gradient_;    ///< ∇V at this step's positions (m²)
-  std::vector<CachedSpring> spring_cache_;  ///< per spring, rebuilt once per implicit step
+  std::vector<CachedSpring> spring_cache_;      ///< per spring, rebuilt once per implicit step
+  std::vector<CachedTriangle> triangle_cache_;  ///< per triangle (when the area term is on)
+  std::vector<std::uint32_t> spring_order_;     ///< springs in the order the CG passes visit them
   std::vector<Real> free_;               ///< 1 for free vertices, 0 for fixed (the filter S)
   std::vector<std::uint32_t> fixed_indices_;  ///< the fixed vertices
   std::vector<Vec3> fixed_positions_;    ///< their positions at the start of a step

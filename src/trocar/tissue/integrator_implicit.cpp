@@ -49,204 +49,400 @@
 namespace trocar {
 namespace {
 
-/// Same threshold as forces.cpp: below it a spring has no direction.
+/// Same thresholds as forces.cpp: below them a spring or a triangle has no direction.
 constexpr Real kTinyLength2 = 1e-30;
+constexpr Real kTinyNormal2 = 1e-30;
+/// The absolute stopping floor, per unit of cg_tolerance: CG also stops when the block-Jacobi
+/// estimate of the remaining velocity error, max_i |(A_ii)⁻¹ r_i|, is below
+/// kVelocityFloorPerTolerance · cg_tolerance (1e-5 m/s at the default 1e-4).
+constexpr Real kVelocityFloorPerTolerance = 0.1;  // m/s
 
 bool volume_on(const MassSpringSettings& s, const ForceTerms& t) {
-  return t.volume && s.closed && s.k_volume > 0 && s.rest_volume > 0;
+  return t.volume && s.closed && s.k_volume > 0 && s.rest_volume > 0 && !s.triangles.empty();
 }
 bool area_on(const MassSpringSettings& s, const ForceTerms& t) {
-  return t.area && s.k_area > 0 && s.mean_rest_area > 0;
+  return t.area && s.k_area > 0 && s.mean_rest_area > 0 && s.rest_areas.size() == s.triangles.size();
 }
-ForceTerms area_only() {
-  ForceTerms t;
-  t.springs = t.volume = t.home = t.global_damping = t.gravity = false;
-  return t;
+
+/// Scalar 3-vector for the hot loops (see forces.cpp: Eigen's packets stall store forwarding).
+struct P3 {
+  Real x, y, z;
+};
+inline P3 load(const Vec3& v) { return {v[0], v[1], v[2]}; }
+inline P3 load(const Real* v) { return {v[0], v[1], v[2]}; }
+inline P3 operator-(const P3& a, const P3& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+inline P3 operator+(const P3& a, const P3& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+inline P3 operator*(Real s, const P3& a) { return {s * a.x, s * a.y, s * a.z}; }
+inline Real dot(const P3& a, const P3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+inline P3 cross(const P3& a, const P3& b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
+inline void add_to(Vec3& f, const P3& a) {
+  f[0] += a.x;
+  f[1] += a.y;
+  f[2] += a.z;
+}
+inline void subtract_from(Vec3& f, const P3& a) {
+  f[0] -= a.x;
+  f[1] -= a.y;
+  f[2] -= a.z;
+}
+inline void store(Real* out, const P3& a) {
+  out[0] = a.x;
+  out[1] = a.y;
+  out[2] = a.z;
 }
 
 }  // namespace
 
-void MassSpringIntegrator::linearise(const MassSpringState& state, Real h) {
+void MassSpringIntegrator::linearise(const MassSpringState& state, const TissueLoads& loads, Real h) {
+  const MassSpringSettings& s = settings_;
   const Vec3* x = state.positions.data();
   const Vec3* v = state.velocities.data();
-  Vec3* kv = product_.data();
-  Vec3* diag = inverse_diagonal_.data();
-  const std::size_t n = product_.size();
+  Vec3* f = forces_.data();  // external forces on entry; f₀ + h K v₀ on exit
+  Sym3* diag = preconditioner_.data();
+  Real* dm = diagonal_mass_.data();
+  const std::size_t n = forces_.size();
 
-  // Diagonal terms: mass, global damping, home springs; K v₀ starts with the home springs.
-  const Real gamma = terms_.global_damping ? settings_.damping : 0.0;
-  const Real k_home = terms_.home ? settings_.k_home : 0.0;
-  const Real* mass = settings_.masses.data();
-  for (std::size_t i = 0; i < n; ++i) {
-    diag[i].setConstant(mass[i] * (1 + h * gamma) + h * h * k_home);
-    kv[i] = -k_home * v[i];
-  }
-
-  // Springs: cache (u, a, b), add K_s v₀ and h·(a u∘u + b) to the diagonal.
-  CachedSpring* cache = spring_cache_.data();
-  const std::size_t ns = terms_.springs ? settings_.springs.size() : 0;
-  const Spring* springs = settings_.springs.data();
-  for (std::size_t e = 0; e < ns; ++e) {
-    const Spring& sp = springs[e];
-    const Vec3 d = x[sp.j] - x[sp.i];
-    const Real d2 = d.squaredNorm();
-    const Real inv = d2 > kTinyLength2 ? 1.0 / std::sqrt(d2) : 0.0;
-    const Vec3 u = d * inv;
-    const Real c = std::max(Real{0}, 1.0 - sp.rest_length * inv);
-    const Real hk = h * sp.stiffness;
-    CachedSpring& cs = cache[e];
-    cs.u = u;
-    cs.a = sp.damping + hk * (1 - c);
-    cs.b = hk * c;
-    cs.i = sp.i;
-    cs.j = sp.j;
-    const Vec3 delta = v[sp.j] - v[sp.i];
-    const Vec3 k_delta = sp.stiffness * (c * delta + ((1 - c) * u.dot(delta)) * u);
-    kv[sp.i] += k_delta;
-    kv[sp.j] -= k_delta;
-    const Vec3 dd = h * (cs.a * u.cwiseProduct(u) + Vec3::Constant(cs.b));
-    diag[sp.i] += dd;
-    diag[sp.j] += dd;
-  }
-
-  // Volume: ∇V_i = Σ_{t∋i} n_t/6, K_V v₀ = −κ_V (∇V·v₀) ∇V, diagonal h² κ_V ∇V∘∇V.
-  if (volume_on(settings_, terms_)) {
-    Vec3* g = volume_gradient_.data();
-    std::fill(volume_gradient_.begin(), volume_gradient_.end(), Vec3::Zero());
-    for (const Triangle& t : settings_.triangles) {
-      const Vec3 nt = (x[t[1]] - x[t[0]]).cross(x[t[2]] - x[t[0]]) / 6.0;
-      g[t[0]] += nt;
-      g[t[1]] += nt;
-      g[t[2]] += nt;
-    }
-    const Real kappa = settings_.k_volume / settings_.rest_volume;
-    Real slope = 0;
-    for (std::size_t i = 0; i < n; ++i) slope += g[i].dot(v[i]);
+  // Per-vertex terms: gravity m g, global damping −γ m v (D = −γ m I), home springs
+  // −k_home (x − x0) (K = −k_home I, so h K v₀ = −h k_home v₀); A_ii starts at m (1 + hγ) + h² k_home.
+  {
+    const Real gamma = terms_.global_damping ? s.damping : 0.0;
+    const Real k_home = terms_.home ? s.k_home : 0.0;
+    const P3 g = terms_.gravity ? load(s.gravity) : P3{0, 0, 0};
+    const Real* mass = s.masses.data();
+    const Vec3* x0 = s.rest_positions.data();
     for (std::size_t i = 0; i < n; ++i) {
-      kv[i] -= (kappa * slope) * g[i];
-      diag[i] += (h * h * kappa) * g[i].cwiseProduct(g[i]);
+      const P3 vi = load(v[i]);
+      add_to(f[i], mass[i] * (g - gamma * vi) - k_home * (load(x[i]) - load(x0[i]) + h * vi));
+      const Real d = mass[i] * (1 + h * gamma) + h * h * k_home;
+      dm[i] = d;
+      diag[i] = {{d, d, d, 0, 0, 0}};
     }
   }
-  if (area_on(settings_, terms_)) add_stiffness_product(settings_, state.positions, state.velocities, product_, area_only());
+
+  // Springs, one pass: the force (as forces.cpp), h K_s v₀, the cached block of A, and A_ii.
+  // K_s = k [c I + (1 − c) u uᵀ], c = max(0, 1 − l/|d|), D_s = λ u uᵀ; A's off-diagonal block
+  // is −h (D_s + h K_s) = −(a u uᵀ + b I) with a = h (λ + h k (1 − c)), b = h² k c.
+  if (terms_.springs) {
+    const Spring* springs = s.springs.data();
+    const std::uint32_t* order = spring_order_.data();
+    CachedSpring* cache = spring_cache_.data();
+    const std::size_t ns = s.springs.size();
+    for (std::size_t e = 0; e < ns; ++e) {
+      const Spring& sp = springs[order[e]];
+      const P3 d = load(x[sp.j]) - load(x[sp.i]);
+      const P3 dvel = load(v[sp.j]) - load(v[sp.i]);
+      const Real len2 = dot(d, d);
+      const Real inv = len2 > kTinyLength2 ? 1.0 / std::sqrt(len2) : 0.0;
+      const Real len = len2 * inv;
+      const Real sigma = sp.stiffness * (len - sp.rest_length) * inv + sp.damping * dot(dvel, d) * inv * inv;
+      const P3 u = inv * d;
+      const Real c = std::max(Real{0}, 1.0 - sp.rest_length * inv);
+      const Real hk = h * sp.stiffness;
+      const Real a = h * (sp.damping + hk * (1 - c));
+      const Real b = h * hk * c;
+      CachedSpring& cs = cache[e];
+      cs.u[0] = u.x;
+      cs.u[1] = u.y;
+      cs.u[2] = u.z;
+      cs.b = b;
+      cs.a = a;
+      cs.i = sp.i;
+      cs.j = sp.j;
+      // f_i += σ d + h k (c δv + (1 − c)(u·δv) u), f_j −= the same.
+      const P3 t = sigma * d + hk * (c * dvel + ((1 - c) * dot(u, dvel)) * u);
+      add_to(f[sp.i], t);
+      subtract_from(f[sp.j], t);
+      const Real blk[6] = {a * u.x * u.x + b, a * u.y * u.y + b, a * u.z * u.z + b,
+                           a * u.x * u.y,     a * u.x * u.z,     a * u.y * u.z};
+      for (int k = 0; k < 6; ++k) {
+        diag[sp.i].m[k] += blk[k];
+        diag[sp.j].m[k] += blk[k];
+      }
+    }
+  }
+
+  // Triangles, one pass: area force, h K_A v₀ and the cached g_c = h √κ ∂A/∂x_c (forces.cpp's
+  // formulas), and ∇V_i = Σ_{t∋i} n_t/6 with 6V = Σ (a − o)·n_t.
+  const bool area = area_on(s, terms_);
+  const bool volume = volume_on(s, terms_);
+  if (area || volume) {
+    const Triangle* tris = s.triangles.data();
+    const Real* rest = s.rest_areas.data();
+    const std::size_t nt = s.triangles.size();
+    const Real kappa = area ? s.k_area / s.mean_rest_area : 0.0;
+    const Real h_sqrt_kappa = h * std::sqrt(kappa);
+    CachedTriangle* cache = triangle_cache_.data();
+    Vec3* gv = volume_gradient_.data();
+    if (volume) std::fill(volume_gradient_.begin(), volume_gradient_.end(), Vec3::Zero());
+    const P3 origin = load(x[tris[0][0]]);
+    Real six_v = 0;
+    for (std::size_t t = 0; t < nt; ++t) {
+      const Triangle& tri = tris[t];
+      const P3 pa = load(x[tri[0]]), pb = load(x[tri[1]]), pc = load(x[tri[2]]);
+      const P3 nrm = cross(pb - pa, pc - pa);
+      if (volume) {
+        six_v += dot(pa - origin, nrm);
+        const P3 g6 = (1.0 / 6.0) * nrm;
+        add_to(gv[tri[0]], g6);
+        add_to(gv[tri[1]], g6);
+        add_to(gv[tri[2]], g6);
+      }
+      if (!area) continue;
+      const Real n2 = dot(nrm, nrm);
+      const Real inv = n2 > kTinyNormal2 ? 1.0 / std::sqrt(n2) : 0.0;
+      const Real half_inv = 0.5 * inv;
+      const P3 ga = half_inv * cross(nrm, pc - pb);  // ∂A/∂x_a
+      const P3 gb = half_inv * cross(nrm, pa - pc);
+      const P3 gc = half_inv * cross(nrm, pb - pa);
+      // f_c = −κ (A − A0) ∂A/∂x_c − h κ (∇A·v₀) ∂A/∂x_c.
+      const Real slope = dot(ga, load(v[tri[0]])) + dot(gb, load(v[tri[1]])) + dot(gc, load(v[tri[2]]));
+      const Real coef = -kappa * (0.5 * n2 * inv - rest[t] + h * slope);
+      add_to(f[tri[0]], coef * ga);
+      add_to(f[tri[1]], coef * gb);
+      add_to(f[tri[2]], coef * gc);
+      CachedTriangle& ct = cache[t];
+      const P3 g[3] = {h_sqrt_kappa * ga, h_sqrt_kappa * gb, h_sqrt_kappa * gc};
+      for (int k = 0; k < 3; ++k) {
+        store(ct.g[k], g[k]);
+        ct.v[k] = tri[k];
+        Sym3& dg = diag[tri[k]];
+        dg.m[0] += g[k].x * g[k].x;
+        dg.m[1] += g[k].y * g[k].y;
+        dg.m[2] += g[k].z * g[k].z;
+        dg.m[3] += g[k].x * g[k].y;
+        dg.m[4] += g[k].x * g[k].z;
+        dg.m[5] += g[k].y * g[k].z;
+      }
+    }
+    if (volume) {
+      // f += (−κ_V (V − V0) − h κ_V (∇V·v₀)) ∇V;  A_ii += h² κ_V ∇V_i ∇V_iᵀ.
+      const Real kappa_v = s.k_volume / s.rest_volume;
+      Real slope = 0;
+      for (std::size_t i = 0; i < n; ++i) slope += gv[i].dot(v[i]);
+      const Real coef = -kappa_v * (six_v / 6.0 - s.rest_volume + h * slope);
+      const Real c2 = h * h * kappa_v;
+      for (std::size_t i = 0; i < n; ++i) {
+        const P3 g = load(gv[i]);
+        add_to(f[i], coef * g);
+        Sym3& dg = diag[i];
+        dg.m[0] += c2 * g.x * g.x;
+        dg.m[1] += c2 * g.y * g.y;
+        dg.m[2] += c2 * g.z * g.z;
+        dg.m[3] += c2 * g.x * g.y;
+        dg.m[4] += c2 * g.x * g.z;
+        dg.m[5] += c2 * g.y * g.z;
+      }
+    }
+  }
+
+  // Contacts: h K v₀ at a = −h k w_a n (Σ_b w_b n·v₀_b); A_aa += (h μ + h² k) w_a² n nᵀ.
+  for (const ContactJacobian& c : loads.contacts) {
+    const P3 nn = load(c.normal);
+    const Real sv = c.weights[0] * dot(nn, load(v[c.vertices[0]])) + c.weights[1] * dot(nn, load(v[c.vertices[1]])) +
+                    c.weights[2] * dot(nn, load(v[c.vertices[2]]));
+    const Real g = -h * c.stiffness * sv;
+    const Real w = h * c.damping + h * h * c.stiffness;
+    for (int k = 0; k < 3; ++k) {
+      add_to(f[c.vertices[k]], (g * c.weights[k]) * nn);
+      const Real ww = w * c.weights[k] * c.weights[k];
+      Sym3& dg = diag[c.vertices[k]];
+      dg.m[0] += ww * nn.x * nn.x;
+      dg.m[1] += ww * nn.y * nn.y;
+      dg.m[2] += ww * nn.z * nn.z;
+      dg.m[3] += ww * nn.x * nn.y;
+      dg.m[4] += ww * nn.x * nn.z;
+      dg.m[5] += ww * nn.y * nn.z;
+    }
+  }
 }
 
-Real MassSpringIntegrator::apply_system(const MassSpringState& state, const TissueLoads& loads, Real h,
-                                        Real volume_slope) {
+Real MassSpringIntegrator::apply_system(const TissueLoads& loads, Real h, Real volume_slope) {
   const Vec3* p = direction_.data();
-  Vec3* out = product_.data();  // zero on entry
-  // Springs: out = (D + h K)_springs p.
-  const CachedSpring* cache = spring_cache_.data();
-  const std::size_t ns = terms_.springs ? spring_cache_.size() : 0;
-  for (std::size_t e = 0; e < ns; ++e) {
-    const CachedSpring& cs = cache[e];
-    const Vec3 delta = p[cs.j] - p[cs.i];
-    const Vec3 g = (cs.a * cs.u.dot(delta)) * cs.u + cs.b * delta;
-    out[cs.i] += g;
-    out[cs.j] -= g;
+  Vec3* out = product_.data();  // diagonal_mass_ · p on entry
+  Real pap_springs = 0, pap_triangles = 0, pap_contacts = 0;
+  // Springs: g = a (u·δ) u + b δ, δ = p_j − p_i; (A p)_i −= g, (A p)_j += g; pᵀ A p gains δ·g.
+  if (terms_.springs) {
+    const CachedSpring* cache = spring_cache_.data();
+    const std::size_t ns = spring_cache_.size();
+    Real acc0 = 0, acc1 = 0;
+    std::size_t e = 0;
+    const auto one = [&](const CachedSpring& cs) {
+      const P3 u = load(cs.u);
+      const P3 delta = load(p[cs.j]) - load(p[cs.i]);
+      const Real ud = dot(u, delta);
+      const P3 g = (cs.a * ud) * u + cs.b * delta;
+      subtract_from(out[cs.i], g);
+      add_to(out[cs.j], g);
+      return cs.a * ud * ud + cs.b * dot(delta, delta);
+    };
+    for (; e + 1 < ns; e += 2) {
+      acc0 += one(cache[e]);
+      acc1 += one(cache[e + 1]);
+    }
+    if (e < ns) acc0 += one(cache[e]);
+    pap_springs = acc0 + acc1;
   }
-  // Contacts: out_a += −(μ + h k) w_a n (Σ_b w_b n·p_b).
+  // Area (Gauss–Newton, rank one per triangle): (A p)_c += (Σ g·p) g_c.
+  if (area_on(settings_, terms_)) {
+    const CachedTriangle* cache = triangle_cache_.data();
+    const std::size_t nt = triangle_cache_.size();
+    for (std::size_t t = 0; t < nt; ++t) {
+      const CachedTriangle& ct = cache[t];
+      const P3 g0 = load(ct.g[0]), g1 = load(ct.g[1]), g2 = load(ct.g[2]);
+      const Real sl = dot(g0, load(p[ct.v[0]])) + dot(g1, load(p[ct.v[1]])) + dot(g2, load(p[ct.v[2]]));
+      add_to(out[ct.v[0]], sl * g0);
+      add_to(out[ct.v[1]], sl * g1);
+      add_to(out[ct.v[2]], sl * g2);
+      pap_triangles += sl * sl;
+    }
+  }
+  // Contacts: (A p)_a += (h μ + h² k) w_a n (Σ_b w_b n·p_b).
   for (const ContactJacobian& c : loads.contacts) {
-    const Real s = c.weights[0] * c.normal.dot(p[c.vertices[0]]) + c.weights[1] * c.normal.dot(p[c.vertices[1]]) +
-                   c.weights[2] * c.normal.dot(p[c.vertices[2]]);
-    const Real g = -(c.damping + h * c.stiffness) * s;
-    for (int k = 0; k < 3; ++k) out[c.vertices[k]] += (g * c.weights[k]) * c.normal;
+    const P3 nn = load(c.normal);
+    const Real sl = c.weights[0] * dot(nn, load(p[c.vertices[0]])) + c.weights[1] * dot(nn, load(p[c.vertices[1]])) +
+                    c.weights[2] * dot(nn, load(p[c.vertices[2]]));
+    const Real g = (h * c.damping + h * h * c.stiffness) * sl;
+    for (int k = 0; k < 3; ++k) add_to(out[c.vertices[k]], (g * c.weights[k]) * nn);
+    pap_contacts += g * sl;
   }
-  const bool area = area_on(settings_, terms_);
-  if (area) {
-    std::fill(scratch_.begin(), scratch_.end(), Vec3::Zero());
-    add_stiffness_product(settings_, state.positions, direction_, scratch_, area_only());
-  }
-  // A p = (m (1 + hγ) + h² k_home) p + h² κ_V (∇V·p) ∇V − h out − h² K_area p, filtered.
-  const Real gamma = terms_.global_damping ? settings_.damping : 0.0;
-  const Real c_home = terms_.home ? h * h * settings_.k_home : 0.0;
-  const Real c_volume =
-      volume_on(settings_, terms_) ? h * h * settings_.k_volume / settings_.rest_volume * volume_slope : 0.0;
-  const Real* mass = settings_.masses.data();
-  const Real* free = free_.data();
-  const Vec3* gv = volume_gradient_.data();
-  const Vec3* ka = scratch_.data();
-  const std::size_t n = product_.size();
-  Real pap = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    Vec3 q = (mass[i] * (1 + h * gamma) + c_home) * p[i] + c_volume * gv[i] - h * out[i];
-    if (area) q -= (h * h) * ka[i];
-    q *= free[i];
-    out[i] = q;
-    pap += p[i].dot(q);
-  }
-  return pap;
+  // Volume: h² κ_V (∇V·p) ∇V is added in the vertex pass; its share of pᵀ A p is h² κ_V (∇V·p)².
+  const Real pap_volume =
+      volume_on(settings_, terms_) ? h * h * settings_.k_volume / settings_.rest_volume * volume_slope * volume_slope : 0.0;
+  return pap_springs + pap_triangles + pap_contacts + pap_volume;
 }
+
+namespace {
+/// The inverse of a symmetric positive definite 3×3 block (xx, yy, zz, xy, xz, yz) by cofactors.
+inline void invert_sym3(const Real* a, Real* inv) {
+  const Real c00 = a[1] * a[2] - a[5] * a[5];
+  const Real c11 = a[0] * a[2] - a[4] * a[4];
+  const Real c22 = a[0] * a[1] - a[3] * a[3];
+  const Real c01 = a[4] * a[5] - a[3] * a[2];
+  const Real c02 = a[3] * a[5] - a[4] * a[1];
+  const Real c12 = a[3] * a[4] - a[0] * a[5];
+  const Real det = a[0] * c00 + a[3] * c01 + a[4] * c02;
+  const Real r = 1.0 / det;
+  inv[0] = c00 * r;
+  inv[1] = c11 * r;
+  inv[2] = c22 * r;
+  inv[3] = c01 * r;
+  inv[4] = c02 * r;
+  inv[5] = c12 * r;
+}
+inline P3 sym3_times(const Real* m, const P3& r) {
+  return {m[0] * r.x + m[3] * r.y + m[4] * r.z, m[3] * r.x + m[1] * r.y + m[5] * r.z,
+          m[4] * r.x + m[5] * r.y + m[2] * r.z};
+}
+inline Real max_abs(const P3& a) { return std::max(std::abs(a.x), std::max(std::abs(a.y), std::abs(a.z))); }
+}  // namespace
 
 StepStats MassSpringIntegrator::step_implicit(MassSpringState& state, const TissueLoads& loads, Real h) {
-  begin_step(state, loads);
+  for (std::size_t k = 0; k < fixed_indices_.size(); ++k) {
+    fixed_positions_[k] = state.positions[fixed_indices_[k]];
+    state.velocities[fixed_indices_[k]].setZero();
+  }
+  if (loads.forces.size() == forces_.size())
+    std::copy(loads.forces.begin(), loads.forces.end(), forces_.begin());
+  else
+    std::fill(forces_.begin(), forces_.end(), Vec3::Zero());
+  linearise(state, loads, h);
+
   const std::size_t n = forces_.size();
   Vec3* x = state.positions.data();
   Vec3* v = state.velocities.data();
   const Real* free = free_.data();
+  const Real* dm = diagonal_mass_.data();
   Vec3* dv = dv_.data();
   Vec3* r = residual_.data();
   Vec3* p = direction_.data();
+  Vec3* z = scratch_.data();
   Vec3* out = product_.data();
-  Vec3* inverse_diagonal = inverse_diagonal_.data();
+  Sym3* pre = preconditioner_.data();
   const Vec3* gv = volume_gradient_.data();
   const bool volume = volume_on(settings_, terms_);
-
-  // K v₀ into product_ and A's diagonal, then the contacts' share of both.
-  linearise(state, h);
-  for (const ContactJacobian& c : loads.contacts) {
-    const Real s = c.weights[0] * c.normal.dot(v[c.vertices[0]]) + c.weights[1] * c.normal.dot(v[c.vertices[1]]) +
-                   c.weights[2] * c.normal.dot(v[c.vertices[2]]);
-    const Real g = -c.stiffness * s;
-    const Vec3 nn = (h * c.damping + h * h * c.stiffness) * c.normal.cwiseProduct(c.normal);
-    for (int k = 0; k < 3; ++k) {
-      out[c.vertices[k]] += (g * c.weights[k]) * c.normal;
-      inverse_diagonal[c.vertices[k]] += (c.weights[k] * c.weights[k]) * nn;
-    }
-  }
-
-  // b = S h (f₀ + h K v₀) into r (Δv₀ = 0, so r₀ = b); z = P⁻¹ r, p = z, ρ = r·z; ∇V·p;
-  // product_ zeroed for the first A p.
+  const Real c_volume = volume ? h * h * settings_.k_volume / settings_.rest_volume : 0.0;
   const Vec3* f = forces_.data();
-  Real bb = 0, rho = 0, slope = 0;
+
+  // b = S h (f₀ + h K v₀); the preconditioner inverted (0 at fixed vertices); the warm start
+  // Δv (the previous step's, 0 at fixed vertices) as p for the first product.
+  Real bb = 0, slope = 0;
+  bool warm = false;
   for (std::size_t i = 0; i < n; ++i) {
-    const Vec3 b = (free[i] * h) * (f[i] + h * out[i]);
+    const Vec3 b = (free[i] * h) * f[i];
     r[i] = b;
     bb += b.squaredNorm();
-    dv[i].setZero();
-    const Vec3 d = free[i] * inverse_diagonal[i].cwiseInverse();
-    inverse_diagonal[i] = d;
-    const Vec3 z = d.cwiseProduct(b);
-    p[i] = z;
-    rho += b.dot(z);
-    out[i].setZero();
-    if (volume) slope += gv[i].dot(z);
+    Sym3& m = pre[i];
+    if (free[i] != 0) {
+      Real inv[6];
+      invert_sym3(m.m, inv);
+      std::copy(inv, inv + 6, m.m);
+    } else {
+      m = {{0, 0, 0, 0, 0, 0}};
+    }
+    const Vec3 d = free[i] * dv[i];
+    p[i] = d;
+    warm = warm || !d.isZero(0);
+    out[i] = dm[i] * d;
+    if (volume) slope += gv[i].dot(d);
   }
 
   StepStats stats;
+  if (!(bb > 0 && std::isfinite(bb)) || !warm) {
+    for (std::size_t i = 0; i < n; ++i) dv[i].setZero();
+    warm = false;
+  }
+  // r₀ = b − A Δv₀ (warm start), z₀ = P⁻¹ r₀, p₀ = z₀; the next product's diagonal part.
+  if (warm) apply_system(loads, h, slope);
+  const Real warm_volume = c_volume * slope;
+  Real rho = 0, rr = 0, mpp = 0;  // mpp = Σ diagonal_mass |p|², the diagonal's share of pᵀ A p
+  slope = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    P3 ri = load(r[i]);
+    if (warm) {
+      ri = ri - free[i] * (load(out[i]) + warm_volume * load(gv[i]));
+      r[i] = Vec3(ri.x, ri.y, ri.z);
+    }
+    rr += dot(ri, ri);
+    const P3 zi = sym3_times(pre[i].m, ri);
+    rho += dot(ri, zi);
+    p[i] = Vec3(zi.x, zi.y, zi.z);
+    out[i] = dm[i] * p[i];
+    mpp += dm[i] * dot(zi, zi);
+    if (volume) slope += gv[i].dot(p[i]);
+  }
   const Real tolerance2 = options_.cg_tolerance * options_.cg_tolerance * bb;
-  Real rr = bb;
-  if (bb > 0 && std::isfinite(bb)) {
+  const Real floor = kVelocityFloorPerTolerance * options_.cg_tolerance;
+  if (bb > 0 && std::isfinite(bb) && rr > 0) {
     while (stats.cg_iterations < options_.max_cg_iterations) {
-      const Real pap = apply_system(state, loads, h, slope);
+      const Real pap = mpp + apply_system(loads, h, slope);
       if (!(pap > 0)) break;  // only with a non-finite (or, in error, indefinite) system
       const Real alpha = rho / pap;
+      const Real cv = c_volume * slope;
       rr = 0;
-      Real rho_next = 0;
+      Real rho_next = 0, zmax = 0;
       for (std::size_t i = 0; i < n; ++i) {
-        dv[i] += alpha * p[i];
-        r[i] -= alpha * out[i];
-        rr += r[i].squaredNorm();
-        rho_next += r[i].dot(inverse_diagonal[i].cwiseProduct(r[i]));
+        const P3 q = free[i] * (load(out[i]) + cv * load(gv[i]));
+        const P3 pi = load(p[i]);
+        const P3 ri = load(r[i]) - alpha * q;
+        add_to(dv[i], alpha * pi);
+        r[i] = Vec3(ri.x, ri.y, ri.z);
+        rr += dot(ri, ri);
+        const P3 zi = sym3_times(pre[i].m, ri);
+        z[i] = Vec3(zi.x, zi.y, zi.z);
+        rho_next += dot(ri, zi);
+        zmax = std::max(zmax, max_abs(zi));
       }
       ++stats.cg_iterations;
-      if (rr <= tolerance2) break;
+      if (rr <= tolerance2 || zmax <= floor) break;
       const Real beta = rho_next / rho;
       rho = rho_next;
       slope = 0;
+      mpp = 0;
       for (std::size_t i = 0; i < n; ++i) {
-        const Vec3 pi = inverse_diagonal[i].cwiseProduct(r[i]) + beta * p[i];
+        const Vec3 pi = z[i] + beta * p[i];
         p[i] = pi;
-        out[i].setZero();
+        out[i] = dm[i] * pi;
+        mpp += dm[i] * pi.squaredNorm();
         if (volume) slope += gv[i].dot(pi);
       }
     }
@@ -263,6 +459,7 @@ StepStats MassSpringIntegrator::step_implicit(MassSpringState& state, const Tiss
   }
   end_step(state);
   stats.finite = std::isfinite(check) && std::isfinite(bb);
+  if (!stats.finite) std::fill(dv_.begin(), dv_.end(), Vec3::Zero());  // no warm start from garbage
   return stats;
 }
 
