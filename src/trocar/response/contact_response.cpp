@@ -1,0 +1,215 @@
+#include "trocar/response/contact_response.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "trocar/geometry/tolerance.h"
+
+namespace trocar {
+
+const char* contact_status_name(ContactStatus status) {
+  switch (status) {
+    case ContactStatus::kApplied: return "applied";
+    case ContactStatus::kPierced: return "pierced";
+    case ContactStatus::kDegenerateTissue: return "degenerate-tissue";
+    case ContactStatus::kCoplanar: return "coplanar";
+    case ContactStatus::kNoCrossing: return "no-crossing";
+    case ContactStatus::kMissed: return "missed";
+    case ContactStatus::kGrasped: return "grasped";
+    case ContactStatus::kCount: break;
+  }
+  return "unknown";
+}
+
+Vec3 obb_penetration(const Obb& box, const Vec3& p, const Vec3& n_in) {
+  const Vec3 r = p - box.center;
+  Vec3 pd = Vec3::Zero();
+  for (int k = 0; k < 3; ++k) {
+    const Vec3 a = box.axes.col(k);
+    const Real g = a.dot(n_in);
+    if (g == 0) continue;  // the ray runs parallel to the tissue plane: it never goes deeper
+    const Real s = g > 0 ? Real{1} : Real{-1};
+    // Slab |a·(x − c)| ≤ h along the ray x = P + t·s·a: a·(x − c) = p_k + t·s reaches s·h at
+    // t = h − s·p_k (the ray–OBB exit of the other two slabs is never earlier: the ray keeps
+    // their coordinates).
+    const Real t = std::max(box.half_extents[k] - s * a.dot(r), Real{0});
+    pd += (t * s) * a;
+  }
+  return pd;
+}
+
+namespace {
+
+// Barycentric coordinates of x in the plane of B (x − B1 = β·e0 + γ·e1 + off-plane):
+// β = (x − B1)·(e1 × n)/|n|², γ = (x − B1)·(n × e0)/|n|² (take (·)×e1 and e0×(·), dot n).
+inline Vec3 bary(const Vec3& x, const Vec3& b0, const Vec3& c_beta, const Vec3& c_gamma) {
+  const Vec3 w = x - b0;
+  const Real beta = w.dot(c_beta);
+  const Real gamma = w.dot(c_gamma);
+  return {Real{1} - beta - gamma, beta, gamma};
+}
+
+}  // namespace
+
+ContactResponse respond_contact(const ContactTriangles& tri, const Obb& box, const Vec3* top,
+                                std::span<const Vec3> instrument_positions,
+                                const ResponseSettings& settings) {
+  ContactResponse r;
+  // ---- Step 1: tissue normal. n = (B2 − B1)×(B3 − B1), |n| = twice the area.
+  const Vec3& b0 = tri.b[0];
+  const Vec3 e0 = tri.b[1] - b0;
+  const Vec3 e1 = tri.b[2] - b0;
+  const Vec3 nrm = e0.cross(e1);
+  const Real nn = nrm.squaredNorm();
+  const Real longest2 = std::max({e0.squaredNorm(), e1.squaredNorm(), (tri.b[2] - tri.b[1]).squaredNorm()});
+  // Degenerate (tolerance.h): 2·area ≤ kDegenerateRatio·longest², compared squared. Zero and
+  // non-finite areas fail the test too.
+  if (!(nn > kDegenerateRatio * kDegenerateRatio * longest2 * longest2) || !std::isfinite(nn)) {
+    r.status = ContactStatus::kDegenerateTissue;
+    return r;
+  }
+  const Real inv_len = Real{1} / std::sqrt(nn);
+  const Vec3 n_out = nrm * inv_len;
+  const Vec3 n_in = -n_out;
+  r.normal_in = n_in;
+
+  // ---- Step 9 (cheapest first): the far surface of a pierced organ has the top vertex inside.
+  if (settings.pierce_filter && top != nullptr && n_out.dot(*top - b0) < 0) {
+    r.status = ContactStatus::kPierced;
+    return r;
+  }
+
+  // ---- Step 2: classify A_i by d_i = n_out·(A_i − B1); inside means d_i < 0 (a vertex exactly
+  // on the plane counts as outside).
+  const Real d[3] = {n_out.dot(tri.a[0] - b0), n_out.dot(tri.a[1] - b0), n_out.dot(tri.a[2] - b0)};
+  const Real dmax = std::max({std::abs(d[0]), std::abs(d[1]), std::abs(d[2])});
+  const Real longest_a2 = std::max({(tri.a[1] - tri.a[0]).squaredNorm(), (tri.a[2] - tri.a[0]).squaredNorm(),
+                                    (tri.a[2] - tri.a[1]).squaredNorm()});
+  // Coplanar: every vertex within the tri–tri tolerance of the plane (L = the pair's size).
+  if (dmax * dmax <= kTriTriTolerance * kTriTriTolerance * std::max(longest2, longest_a2)) {
+    r.status = ContactStatus::kCoplanar;
+    return r;
+  }
+  const int in0 = d[0] < 0, in1 = d[1] < 0, in2 = d[2] < 0;
+  const int inside = in0 + in1 + in2;
+  if (inside == 0 || inside == 3) {
+    r.status = ContactStatus::kNoCrossing;
+    return r;
+  }
+  // Relabel: A3 is the vertex alone on its side (the inside one for one vertex through, Fig.
+  // 3.5a; the outside one for an edge through, Fig. 3.5b → c). A1, A2 follow in cyclic order.
+  const int lone_in = inside == 1 ? 1 : 0;  // value of `in` that the lone vertex has
+  const int i3 = in0 == lone_in ? 0 : (in1 == lone_in ? 1 : 2);
+  const int i1 = (i3 + 1) % 3;
+  const int i2 = (i3 + 2) % 3;
+  r.inside_count = static_cast<std::uint8_t>(inside);
+  r.lone_vertex = static_cast<std::uint8_t>(i3);
+
+  // ---- Step 3: M on A1A3 and N on A2A3 where the signed distance is 0 (similar triangles:
+  // t = d1/(d1 − d3)). d1 and d3 lie on different sides (one < 0 ≤ the other), so the
+  // denominator is non-zero and t ∈ [0, 1].
+  const Vec3& a1 = tri.a[i1];
+  const Vec3& a2 = tri.a[i2];
+  const Vec3& a3 = tri.a[i3];
+  const Real tm = d[i1] / (d[i1] - d[i3]);
+  const Real tn = d[i2] / (d[i2] - d[i3]);
+  const Vec3 m = a1 + tm * (a3 - a1);
+  const Vec3 n = a2 + tn * (a3 - a2);
+  r.m = m;
+  r.n = n;
+
+  // ---- Step 4: P = N if its barycentric coordinates in B are all ≥ 0; otherwise move it along
+  // MN to the tissue triangle's edge. λ(M + s(N − M)) = λM + s(λN − λM) is affine in s, so the
+  // part of MN inside B is the interval of s ∈ [0, 1] where all three are ≥ 0; P is its end
+  // nearest N (the edge MN leaves B through, Fig. 3.7).
+  const Real inv_nn = Real{1} / nn;
+  const Vec3 c_beta = e1.cross(nrm) * inv_nn;
+  const Vec3 c_gamma = nrm.cross(e0) * inv_nn;
+  const Vec3 lm = bary(m, b0, c_beta, c_gamma);
+  const Vec3 ln = bary(n, b0, c_beta, c_gamma);
+  Real lo = 0, hi = 1;
+  bool empty = false;
+  for (int i = 0; i < 3; ++i) {
+    const Real delta = ln[i] - lm[i];
+    if (delta > 0) {
+      lo = std::max(lo, -lm[i] / delta);
+    } else if (delta < 0) {
+      hi = std::min(hi, lm[i] / -delta);
+    } else if (lm[i] < 0) {
+      empty = true;
+    }
+  }
+  // A pair that only touches within the detector's tolerance may leave an empty interval of
+  // rounding size; take its middle. A real miss gives no force.
+  if (empty || hi < lo) {
+    if (empty || lo - hi > 1e-9) {
+      r.status = ContactStatus::kMissed;
+      return r;
+    }
+    hi = std::clamp(Real{0.5} * (lo + hi), Real{0}, Real{1});
+  }
+  const Real s = hi;
+  r.moved_to_edge = s < 1;
+  r.point = m + s * (n - m);
+  // Weights in B: clamp the rounding-size negatives and renormalise (the sum stays ≥ 1 > 0).
+  Vec3 wb = (lm + s * (ln - lm)).cwiseMax(Real{0});
+  wb /= wb.sum();
+  r.weights_b = wb;
+  // Weights in A, exactly: M = (1−tm)A1 + tm·A3, N = (1−tn)A2 + tn·A3, P = (1−s)M + s·N.
+  Vec3 wa = Vec3::Zero();
+  wa[i1] = (1 - s) * (1 - tm);
+  wa[i2] = s * (1 - tn);
+  wa[i3] = (1 - s) * tm + s * tn;
+  r.weights_a = wa;
+
+  // ---- Step 6: relative velocity at P, each side interpolated with P's weights in its triangle.
+  const Vec3 v_i = wa[0] * tri.va[0] + wa[1] * tri.va[1] + wa[2] * tri.va[2];
+  const Vec3 v_t = wb[0] * tri.vb[0] + wb[1] * tri.vb[1] + wb[2] * tri.vb[2];
+  const Vec3 v_rel = v_i - v_t;
+  r.relative_velocity = v_rel;
+
+  // ---- Steps 5 and 7: depth.
+  Vec3 dvec = Vec3::Zero();
+  switch (settings.method) {
+    case ResponseMethod::kObb:
+    case ResponseMethod::kProject: {
+      // Eq. 3.7: PD = Pd1 + Pd2 + Pd3 from the carried OBB.
+      const Vec3 pd = obb_penetration(box, r.point, n_in);
+      r.penetration = pd;
+      // Eq. 3.8: D = (PD·v̂) v̂; resting (|v| ≤ threshold) or receding along PD: D = (PD·n_in) n_in.
+      const Real speed2 = v_rel.squaredNorm();
+      const Real rest2 = settings.resting_speed * settings.resting_speed;
+      Real along = 0;
+      Vec3 vhat = Vec3::Zero();
+      if (speed2 > rest2 && speed2 > 0) {
+        vhat = v_rel / std::sqrt(speed2);
+        along = pd.dot(vhat);
+      }
+      dvec = along > 0 ? Vec3(along * vhat) : Vec3(pd.dot(n_in) * n_in);
+      break;
+    }
+    case ResponseMethod::kPrimitive: {
+      // The two triangles alone: the instrument triangle's deepest vertex below the plane.
+      const Real depth = -std::min({d[0], d[1], d[2]});
+      dvec = depth * n_in;
+      break;
+    }
+    case ResponseMethod::kNormal: {
+      // The instrument's deepest vertex along n_in (A's vertices when none are given).
+      Real depth = -std::min({d[0], d[1], d[2]});
+      for (const Vec3& x : instrument_positions) depth = std::max(depth, n_in.dot(x - b0));
+      dvec = depth * n_in;
+      break;
+    }
+  }
+  r.deformation = dvec;
+  r.depth = dvec.norm();
+
+  // ---- Step 8, eq. 3.9 with the damping signed to resist approach: f = max(0, K|D| + μ v_rel·n_in).
+  const Real f = std::max(Real{0}, settings.stiffness * r.depth + settings.damping * v_rel.dot(n_in));
+  r.force = f * n_in;
+  r.status = ContactStatus::kApplied;
+  return r;
+}
+
+}  // namespace trocar

@@ -1,0 +1,39 @@
+#pragma once
+/// Collision-response settings and the method switch (scene key `response`, DESIGN.md §4–5).
+#include <cstdint>
+#include <optional>
+#include <string_view>
+
+#include "trocar/core/types.h"
+
+namespace trocar {
+
+/// Which response computes the depth (scene `response.method`; docs/response.md).
+enum class ResponseMethod : std::uint8_t {
+  kObb,        ///< "obb": the seed's algorithm, §4 steps 1–10 (OBB depth PD, deformation D)
+  kPrimitive,  ///< "primitive": depth of the instrument triangle's deepest vertex below the tissue
+               ///< plane (the two triangles alone); force along n_in and the tissue triangle
+               ///< moved apart by that depth (position correction), primitive by primitive
+  kNormal,     ///< "normal": depth of the instrument's deepest vertex along n_in; force along n_in
+  kProject,    ///< "project": the seed's D as a force and also as a position correction
+};
+
+/// "obb", "primitive", "normal" or "project".
+const char* response_method_name(ResponseMethod method);
+/// The method named `name` (exact, lower case), or nothing.
+std::optional<ResponseMethod> parse_response_method(std::string_view name);
+
+/// Parameters of the penalty response. Defaults are DESIGN.md §5's example scene.
+struct ResponseSettings {
+  ResponseMethod method = ResponseMethod::kObb;  ///< see ResponseMethod
+  Real stiffness = 2000;       ///< K in eq. 3.9 (N/m)
+  Real damping = 5;            ///< μ in eq. 3.9 (N·s/m)
+  Real max_force = 10;         ///< clamp on |instrument force| for the device (N); ≤ 0: no clamp
+  /// Below this relative speed at P (m/s) the contact is resting and D is PD projected on n_in.
+  Real resting_speed = 1e-6;
+  /// Jaw closure (0..1) at or above which jaw triangles grasp the tissue they touch.
+  Real grasp_closure = 0.9;
+  bool pierce_filter = true;   ///< step 9: discard contacts whose tissue has the top vertex inside
+};
+
+}  // namespace trocar
