@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "trocar/collision/detector.h"
 #include "trocar/core/aabb.h"
 #include "trocar/core/error.h"
 #include "trocar/geometry/aabb_tree.h"
@@ -101,13 +102,32 @@ void check_object(const SweptObject& o, const char* what) {
 
 // A feature pair met by one triangle pair. kind 0: instrument vertex f1 vs tissue triangle f2;
 // 1: tissue vertex f1 vs instrument triangle f2; 2: instrument edge f1 vs tissue edge f2 (edges
-// as (min vertex << 32 | max vertex)). detected: that triangle pair intersects at start or end.
+// as (min vertex << 32 | max vertex)).
 struct FeaturePair {
   std::uint8_t kind;
   std::uint64_t f1;
   std::uint64_t f2;
-  bool detected;
 };
+
+// Per vertex of one object: bit f set when, at frame f (0 start, 1 end), the discrete detector
+// reports a contact on a triangle of that object incident to the vertex.
+void mark_contacts(const SweptObject& instrument, const SweptObject& tissue, std::vector<std::uint8_t>& seen_i,
+                   std::vector<std::uint8_t>& seen_t) {
+  seen_i.assign(instrument.positions_start.size(), 0);
+  seen_t.assign(tissue.positions_start.size(), 0);
+  CollisionDetector detector;
+  for (int frame = 0; frame < 2; ++frame) {
+    const CollisionObject objects[] = {
+        {ObjectRole::kInstrument, frame == 0 ? instrument.positions_start : instrument.positions_end,
+         instrument.triangles},
+        {ObjectRole::kTissue, frame == 0 ? tissue.positions_start : tissue.positions_end, tissue.triangles}};
+    const auto bit = static_cast<std::uint8_t>(1u << frame);
+    for (const Contact& c : detector.detect(objects)) {
+      for (const std::uint32_t v : instrument.triangles[c.triangle_a]) seen_i[v] |= bit;
+      for (const std::uint32_t v : tissue.triangles[c.triangle_b]) seen_t[v] |= bit;
+    }
+  }
+}
 
 std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) {
   return (static_cast<std::uint64_t>(std::min(a, b)) << 32) | std::max(a, b);
@@ -212,50 +232,64 @@ SweptCheckResult swept_check(const SweptObject& instrument, const SweptObject& t
         if (!tissue_boxes[tb].overlaps(box)) continue;
         ++result.triangle_pairs_tested;
         const Triangle& B = tissue.triangles[tb];
-        const bool detected =
-            intersect_triangles(ip0[A[0]], ip0[A[1]], ip0[A[2]], tp0[B[0]], tp0[B[1]], tp0[B[2]]).intersects ||
-            intersect_triangles(ip1[A[0]], ip1[A[1]], ip1[A[2]], tp1[B[0]], tp1[B[1]], tp1[B[2]]).intersects;
         for (int i = 0; i < 3; ++i) {
-          features.push_back({0, A[i], tb, detected});
-          features.push_back({1, B[i], ta, detected});
+          features.push_back({0, A[i], tb});
+          features.push_back({1, B[i], ta});
           for (int j = 0; j < 3; ++j) {
-            features.push_back({2, edge_key(A[i], A[(i + 1) % 3]), edge_key(B[j], B[(j + 1) % 3]), detected});
+            features.push_back({2, edge_key(A[i], A[(i + 1) % 3]), edge_key(B[j], B[(j + 1) % 3])});
           }
         }
       }
     }
   }
 
-  // One entry per feature pair: detected if any triangle pair holding both features intersects
-  // at a frame. Every such triangle pair is among the candidates (the crossing point lies in
-  // both swept boxes), so the OR is over all of them.
+  // One entry per feature pair (the same pair is met through several triangle pairs).
   std::sort(features.begin(), features.end(), [](const FeaturePair& x, const FeaturePair& y) {
     return std::tie(x.kind, x.f1, x.f2) < std::tie(y.kind, y.f1, y.f2);
   });
-  // Triangle of each instrument (kind 1) / tissue (kind 0) feature, for the corners.
-  for (std::size_t k = 0; k < features.size();) {
-    std::size_t end = k + 1;
-    bool detected = features[k].detected;
-    while (end < features.size() && features[end].kind == features[k].kind && features[end].f1 == features[k].f1 &&
-           features[end].f2 == features[k].f2) {
-      detected = detected || features[end].detected;
-      ++end;
-    }
+  features.erase(std::unique(features.begin(), features.end(),
+                             [](const FeaturePair& x, const FeaturePair& y) {
+                               return x.kind == y.kind && x.f1 == y.f1 && x.f2 == y.f2;
+                             }),
+                 features.end());
+  std::vector<std::uint8_t> seen_i;
+  std::vector<std::uint8_t> seen_t;
+  mark_contacts(instrument, tissue, seen_i, seen_t);
+  // The frames (bits) at which the discrete test saw a contact around each feature.
+  const auto around = [](const std::vector<std::uint8_t>& seen, std::initializer_list<std::uint32_t> vertices) {
+    std::uint8_t bits = 0;
+    for (const std::uint32_t v : vertices) bits |= seen[v];
+    return bits;
+  };
+  for (std::size_t k = 0; k < features.size(); ++k) {
     const FeaturePair& f = features[k];
     bool touch = false;
+    std::uint8_t seen_instrument = 0;
+    std::uint8_t seen_tissue = 0;
     if (f.kind == 0) {
       const auto v = static_cast<std::uint32_t>(f.f1);
       const Triangle& B = tissue.triangles[f.f2];
+      seen_instrument = around(seen_i, {v});
+      seen_tissue = around(seen_t, {B[0], B[1], B[2]});
       touch = vertex_triangle_touch(ip0[v], ip1[v], tp0[B[0]], tp1[B[0]], tp0[B[1]], tp1[B[1]], tp0[B[2]], tp1[B[2]]);
     } else if (f.kind == 1) {
       const auto v = static_cast<std::uint32_t>(f.f1);
       const Triangle& A = instrument.triangles[f.f2];
+      seen_instrument = around(seen_i, {A[0], A[1], A[2]});
+      seen_tissue = around(seen_t, {v});
       touch = vertex_triangle_touch(tp0[v], tp1[v], ip0[A[0]], ip1[A[0]], ip0[A[1]], ip1[A[1]], ip0[A[2]], ip1[A[2]]);
     } else {
       const auto a = static_cast<std::uint32_t>(f.f1 >> 32), b = static_cast<std::uint32_t>(f.f1 & 0xffffffffu);
       const auto c = static_cast<std::uint32_t>(f.f2 >> 32), d = static_cast<std::uint32_t>(f.f2 & 0xffffffffu);
+      seen_instrument = around(seen_i, {a, b});
+      seen_tissue = around(seen_t, {c, d});
       touch = edge_edge_touch(ip0[a], ip1[a], ip0[b], ip1[b], tp0[c], tp1[c], tp0[d], tp1[d]);
     }
+    // Seen when at one frame the discrete detector reports contacts on the tissue around the
+    // tissue's feature (the instrument side is not required: a tool tip pushed deeper than its
+    // first ring of triangles touches the tissue only through triangles not incident to the tip).
+    (void)seen_instrument;
+    const bool detected = seen_tissue != 0;
     if (touch) {
       if (f.kind == 2) {
         ++result.edge_edge_events;
@@ -265,7 +299,6 @@ SweptCheckResult swept_check(const SweptObject& instrument, const SweptObject& t
         if (!detected) ++result.missed_vertex_triangle;
       }
     }
-    k = end;
   }
   return result;
 }

@@ -27,8 +27,12 @@ struct SweptObject {
 struct SweptCheckResult {
   std::uint64_t vertex_triangle_events = 0;  ///< vertex of either object through a triangle of the other
   std::uint64_t edge_edge_events = 0;        ///< instrument edge across a tissue edge
-  /// Events for which no triangle pair containing the two features intersects at the start or at
-  /// the end frame: collisions a discrete detector running at those two frames never sees.
+  /// Events a discrete detector running at the two frames never sees: at neither frame does it
+  /// report a contact on a tissue triangle incident to a vertex of the tissue's feature (the
+  /// tissue triangle, the tissue vertex or the tissue edge of the event). The instrument side is
+  /// not required to match: a tool tip pressed deeper than its first ring of triangles touches
+  /// the tissue only through triangles not incident to the tip, and the detector has still seen
+  /// the penetration there.
   std::uint64_t missed_vertex_triangle = 0;
   std::uint64_t missed_edge_edge = 0;        ///< the same for edge–edge events
   std::uint64_t triangle_pairs_tested = 0;   ///< triangle pairs whose swept boxes overlap
@@ -44,6 +48,7 @@ struct SweptCheckResult {
 /// (point in triangle, or segments meeting) within kSweptTolerance of the four points' extent.
 /// Candidates come from an AABB tree over the tissue's swept triangle boxes queried with each
 /// instrument triangle's swept box; features shared by several triangle pairs are counted once.
+/// The discrete contacts at the two frames come from a CollisionDetector (OHC).
 /// Allocates (it is a measuring tool). Throws trocar::Error when start and end vertex counts
 /// differ.
 SweptCheckResult swept_check(const SweptObject& instrument, const SweptObject& tissue);

@@ -1,0 +1,85 @@
+// No heap allocation in detect() after warm-up (DESIGN.md §3): a counting global operator new
+// (replacing the one of this whole test binary; it only counts while a window is open).
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstdlib>
+#include <new>
+
+#include "scene_util.h"
+#include "trocar/mesh/generate.h"
+
+namespace {
+std::atomic<bool> g_counting{false};
+std::atomic<long> g_allocations{0};
+
+void* counted_allocate(std::size_t size) {
+  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
+  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
+  throw std::bad_alloc();
+}
+}  // namespace
+
+void* operator new(std::size_t size) { return counted_allocate(size); }
+void* operator new[](std::size_t size) { return counted_allocate(size); }
+void* operator new(std::size_t size, const std::nothrow_t&) noexcept {
+  try {
+    return counted_allocate(size);
+  } catch (...) {
+    return nullptr;
+  }
+}
+void* operator new[](std::size_t size, const std::nothrow_t&) noexcept {
+  try {
+    return counted_allocate(size);
+  } catch (...) {
+    return nullptr;
+  }
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete[](void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+void operator delete(void* p, const std::nothrow_t&) noexcept { std::free(p); }
+void operator delete[](void* p, const std::nothrow_t&) noexcept { std::free(p); }
+
+namespace trocar {
+namespace {
+
+TEST(CollisionAllocation, DetectAllocatesNothingAfterWarmUp) {
+  g_allocations = 0;
+  g_counting = true;
+  auto* probe = new std::vector<int>(10);
+  g_counting = false;
+  delete probe;
+  ASSERT_EQ(g_allocations.load(), 2);  // the counter works
+
+  test::CuttingScene cut(make_icosphere(0.05, 4), make_capsule(0.004, 0.04, 12, 4), 0.006, 0.002, 0.001);
+  cut.scene.add(test::translated(make_box(0.05, 0.05, 0.05), Vec3(0, 0, -0.06)), ObjectRole::kRigid);
+  const std::vector<CollisionObject> objects = cut.scene.objects();
+  for (const BroadPhaseKind kind : {BroadPhaseKind::kOhc, BroadPhaseKind::kBvh}) {
+    CollisionDetector detector(kind);
+    std::vector<Contact> out;
+    // Warm-up: the frames the loop below will see, so every buffer reaches its size.
+    for (int f = 0; f < 6; ++f) {
+      cut.set_frame(f);
+      detector.detect(objects, out);
+    }
+    long allocations = 0;
+    std::size_t contacts = 0;
+    for (int f = 0; f < 6; ++f) {
+      cut.set_frame(f);  // writes positions in place: the views stay valid
+      g_allocations = 0;
+      g_counting = true;
+      detector.detect(objects, out);
+      g_counting = false;
+      allocations += g_allocations.load();
+      contacts += out.size();
+    }
+    EXPECT_EQ(allocations, 0) << broad_phase_name(kind);
+    EXPECT_GT(contacts, 0u) << broad_phase_name(kind);
+  }
+}
+
+}  // namespace
+}  // namespace trocar

@@ -1,0 +1,200 @@
+// OHC specifics: cell classification counted by hand on a built scene, contact kinds and
+// ordering, determinism, statistics and the table growing only when needed.
+#include <gtest/gtest.h>
+
+#include "scene_util.h"
+#include "trocar/mesh/generate.h"
+
+namespace trocar {
+namespace {
+
+using test::Scene;
+
+// Three small triangles that fit inside one unit cell [cx, cx+1] × [cy, cy+1] × [0, 1] and
+// pairwise intersect (planes z = ½, y = ½ and x = ½ through the cell's centre).
+TriMesh cell_triangle(int kind, int cx, int cy) {
+  const Vec3 o(cx, cy, 0);
+  TriMesh m;
+  if (kind == 0) m.positions = {o + Vec3(0.2, 0.2, 0.5), o + Vec3(0.8, 0.2, 0.5), o + Vec3(0.5, 0.8, 0.5)};
+  if (kind == 1) m.positions = {o + Vec3(0.2, 0.5, 0.2), o + Vec3(0.8, 0.5, 0.2), o + Vec3(0.5, 0.5, 0.8)};
+  if (kind == 2) m.positions = {o + Vec3(0.5, 0.2, 0.2), o + Vec3(0.5, 0.8, 0.2), o + Vec3(0.5, 0.5, 0.8)};
+  m.triangles = {{0, 1, 2}};
+  return m;
+}
+
+TriMesh merge(const TriMesh& a, const TriMesh& b) {
+  TriMesh m = a;
+  const auto base = static_cast<std::uint32_t>(m.positions.size());
+  for (const Vec3& p : b.positions) m.positions.push_back(p);
+  for (const Triangle& t : b.triangles) m.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+  return m;
+}
+
+// Object 0 (instrument): kind-0 triangles in cells (0,0,0) and (2,0,0).
+// Object 1 (tissue):     kind-1 triangles in cells (0,0,0), (1,0,0) and (2,1,0).
+// Object 2 (rigid):      kind-2 triangles in cells (0,0,0) and (2,0,0).
+Scene hand_scene() {
+  Scene s;
+  s.add(merge(cell_triangle(0, 0, 0), cell_triangle(0, 2, 0)), ObjectRole::kInstrument);
+  s.add(merge(merge(cell_triangle(1, 0, 0), cell_triangle(1, 1, 0)), cell_triangle(1, 2, 1)), ObjectRole::kTissue);
+  s.add(merge(cell_triangle(2, 0, 0), cell_triangle(2, 2, 0)), ObjectRole::kRigid);
+  return s;
+}
+
+TEST(OhcCells, HandBuiltSceneClassification) {
+  const Scene scene = hand_scene();
+  const auto objects = scene.objects();
+  OhcSettings settings;
+  settings.cell_size = 1.0;
+  settings.cascade = false;  // hash every triangle: the counts below are by hand
+  OhcBroadPhase ohc(settings);
+  std::vector<CandidatePair> pairs;
+  ohc.find_pairs(objects, pairs);
+  const OhcStats& s = ohc.stats();
+  // All three object boxes overlap pairwise (x ∈ [0.2, 2.8] for all, y overlaps in [0.2, 0.8]).
+  EXPECT_EQ(s.objects_overlapping, 3u);
+  EXPECT_EQ(s.primitives_hashed, 7u);
+  EXPECT_EQ(s.entries, 7u);  // each triangle inside one cell
+  // Touched: (0,0,0) objects {0,1,2} potential; (2,0,0) {0,2} potential; (1,0,0) {1} solo;
+  // (2,1,0) {1} solo. Block spanned: x 0..2, y 0..1, z 0..0 = 6 cells, 2 of them empty.
+  EXPECT_EQ(s.cells_touched, 4u);
+  EXPECT_EQ(s.potential_cells, 2u);
+  EXPECT_EQ(s.solo_cells, 2u);
+  EXPECT_EQ(s.empty_cells, 2u);
+  // Pairs: cell (0,0,0) gives 0–1, 0–2, 1–2; cell (2,0,0) gives 0–2.
+  EXPECT_EQ(s.candidate_pairs, 4u);
+  EXPECT_EQ(pairs.size(), 4u);
+  EXPECT_EQ(s.cell_size, 1.0);
+  EXPECT_GE(s.table_size, 2 * s.entries);
+  EXPECT_EQ(s.table_size & (s.table_size - 1), 0u);  // power of two
+
+  // With the cascade only the overlap regions are hashed: the tissue's triangle in (2,1,0)
+  // (y ∈ [1.2, 1.8]) lies outside every overlap and is dropped, the rest stay.
+  settings.cascade = true;
+  ohc.set_settings(settings);
+  ohc.find_pairs(objects, pairs);
+  EXPECT_EQ(ohc.stats().primitives_hashed, 6u);
+  EXPECT_EQ(ohc.stats().potential_cells, 2u);
+  EXPECT_EQ(ohc.stats().candidate_pairs, 4u);
+}
+
+TEST(OhcCells, ContactKindsAndOrder) {
+  const Scene scene = hand_scene();
+  const auto objects = scene.objects();
+  CollisionDetector detector;
+  const auto contacts = detector.detect(objects);
+  ASSERT_EQ(contacts.size(), 4u);
+  const std::tuple<std::uint32_t, std::uint32_t, std::uint32_t, std::uint32_t> expected[] = {
+      {0, 1, 0, 0}, {0, 2, 0, 0}, {0, 2, 1, 1}, {1, 2, 0, 0}};
+  const ContactKind kinds[] = {ContactKind::kInstrumentTissue, ContactKind::kInstrumentRigid,
+                               ContactKind::kInstrumentRigid, ContactKind::kTissueRigid};
+  for (std::size_t k = 0; k < 4; ++k) {
+    EXPECT_EQ(contact_key(contacts[k]), expected[k]) << k;
+    EXPECT_EQ(contacts[k].kind, kinds[k]) << k;
+    EXPECT_FALSE(contacts[k].coplanar);
+  }
+  // The segment of 0–1 in cell (0,0,0): planes z = ½ and y = ½ meet on x ∈ [0.35, 0.65].
+  EXPECT_NEAR(std::min(contacts[0].segment_p.x(), contacts[0].segment_q.x()), 0.35, 1e-12);
+  EXPECT_NEAR(std::max(contacts[0].segment_p.x(), contacts[0].segment_q.x()), 0.65, 1e-12);
+  EXPECT_NEAR(contacts[0].segment_p.y(), 0.5, 1e-12);
+  EXPECT_NEAR(contacts[0].segment_p.z(), 0.5, 1e-12);
+
+  // Reversed indices: rigid 0, tissue 1, instrument 2. The instrument still comes first.
+  Scene reversed;
+  for (int i = 2; i >= 0; --i) reversed.add(scene.meshes[i], scene.roles[i]);
+  const auto robjects = reversed.objects();
+  const auto rc = detector.detect(robjects);
+  ASSERT_EQ(rc.size(), 4u);
+  const std::tuple<std::uint32_t, std::uint32_t, std::uint32_t, std::uint32_t> rexpected[] = {
+      {1, 0, 0, 0}, {2, 0, 0, 0}, {2, 0, 1, 1}, {2, 1, 0, 0}};
+  const ContactKind rkinds[] = {ContactKind::kTissueRigid, ContactKind::kInstrumentRigid,
+                                ContactKind::kInstrumentRigid, ContactKind::kInstrumentTissue};
+  for (std::size_t k = 0; k < 4; ++k) {
+    EXPECT_EQ(contact_key(rc[k]), rexpected[k]) << k;
+    EXPECT_EQ(rc[k].kind, rkinds[k]) << k;
+  }
+}
+
+TEST(OhcCells, SameRolesLowerIndexFirstAndKindNames) {
+  Scene s;
+  s.add(cell_triangle(0, 0, 0), ObjectRole::kTissue);
+  s.add(cell_triangle(1, 0, 0), ObjectRole::kTissue);
+  s.add(cell_triangle(2, 0, 0), ObjectRole::kInstrument);
+  s.add(cell_triangle(0, 0, 0), ObjectRole::kInstrument);
+  const auto objects = s.objects();
+  CollisionDetector d;
+  const auto c = d.detect(objects);
+  // Pairs: 0–1 tissue–tissue; 2–0, 2–1, 3–0, 3–1 instrument–tissue; 2–3 instrument–instrument.
+  ASSERT_EQ(c.size(), 6u);
+  EXPECT_EQ(contact_key(c[0]), std::make_tuple(0u, 1u, 0u, 0u));
+  EXPECT_EQ(c[0].kind, ContactKind::kTissueTissue);
+  EXPECT_EQ(contact_key(c[1]), std::make_tuple(2u, 0u, 0u, 0u));
+  EXPECT_EQ(contact_key(c[3]), std::make_tuple(2u, 3u, 0u, 0u));
+  EXPECT_EQ(c[3].kind, ContactKind::kInstrumentInstrument);
+  EXPECT_EQ(contact_key(c[4]), std::make_tuple(3u, 0u, 0u, 0u));
+  EXPECT_TRUE(c[4].coplanar);  // two identical triangles
+  EXPECT_STREQ(contact_kind_name(ContactKind::kTissueRigid), "tissue-rigid");
+  EXPECT_STREQ(role_name(ObjectRole::kInstrument), "instrument");
+  EXPECT_STREQ(broad_phase_name(BroadPhaseKind::kOhc), "ohc");
+}
+
+TEST(OhcCells, DeterministicAcrossRunsAndDetectors) {
+  test::CuttingScene cut(make_icosphere(0.05, 3), make_capsule(0.004, 0.04, 12, 4), 0.006, 0.01);
+  CollisionDetector a;
+  std::vector<std::vector<Contact>> first;
+  for (int f = 0; f < 5; ++f) {
+    cut.set_frame(f);
+    const auto objects = cut.scene.objects();
+    const auto c = a.detect(objects);
+    first.emplace_back(c.begin(), c.end());
+  }
+  CollisionDetector b;  // a fresh detector, same frames
+  for (int f = 0; f < 5; ++f) {
+    cut.set_frame(f);
+    const auto objects = cut.scene.objects();
+    std::vector<Contact> out;
+    b.detect(objects, out);
+    test::expect_same_contacts(first[static_cast<std::size_t>(f)], out, "frame " + std::to_string(f));
+    EXPECT_TRUE(std::is_sorted(out.begin(), out.end(), contact_less));
+    EXPECT_FALSE(out.empty());
+  }
+}
+
+TEST(OhcCells, TableGrowsOnlyWhenNeeded) {
+  test::CuttingScene cut(make_icosphere(0.05, 3), make_capsule(0.004, 0.04, 12, 4), 0.006, 0.01);
+  OhcBroadPhase ohc;
+  std::vector<CandidatePair> pairs;
+  std::uint32_t table = 0;
+  for (int f = 0; f < 5; ++f) {
+    cut.set_frame(f);
+    ohc.find_pairs(cut.scene.objects(), pairs);
+    EXPECT_GE(ohc.stats().table_size, 2 * ohc.stats().entries);
+    EXPECT_GE(ohc.stats().table_size, table);
+    table = ohc.stats().table_size;
+    EXPECT_GT(ohc.stats().potential_cells, 0u);
+    EXPECT_EQ(ohc.stats().cells_touched, ohc.stats().solo_cells + ohc.stats().potential_cells);
+    EXPECT_GT(ohc.stats().cell_size, 0.0);
+  }
+  // Far apart: nothing hashed, the table stays as it is.
+  Scene far;
+  far.add(make_icosphere(1.0, 1), ObjectRole::kInstrument);
+  far.add(test::translated(make_icosphere(1.0, 1), Vec3(10, 0, 0)), ObjectRole::kTissue);
+  ohc.find_pairs(far.objects(), pairs);
+  EXPECT_EQ(ohc.stats().entries, 0u);
+  EXPECT_TRUE(pairs.empty());
+}
+
+TEST(OhcCells, CascadeHashesOnlyTheOverlap) {
+  // A 20K-triangle sphere touched at one pole by a small capsule: only a few percent of the
+  // sphere's triangles may be hashed.
+  test::CuttingScene cut(make_icosphere(0.05, 5), make_capsule(0.002, 0.03, 12, 4), 0.002);
+  CollisionDetector d;
+  const auto c = d.detect(cut.scene.objects());
+  EXPECT_FALSE(c.empty());
+  const OhcStats& s = *d.ohc_stats();
+  EXPECT_LT(s.primitives_hashed, 20480u / 50u) << "the cascade should drop almost everything";
+  EXPECT_GE(s.candidate_pairs, c.size());
+}
+
+}  // namespace
+}  // namespace trocar
