@@ -56,9 +56,6 @@ class MassSpringIntegrator {
  private:
   StepStats step_explicit(MassSpringState& state, const TissueLoads& loads, Real dt, bool symplectic);
   StepStats step_implicit(MassSpringState& state, const TissueLoads& loads, Real dt);
-  /// Saves the fixed vertices' positions, zeroes their velocities, and evaluates
-  /// forces_ = loads.forces + f(x, v) (the step's one force evaluation).
-  void begin_step(MassSpringState& state, const TissueLoads& loads);
   /// Restores the fixed vertices' positions bit for bit and zeroes their velocities.
   void end_step(MassSpringState& state) const;
   /// One spring's share of the system matrix A for the current step (see
