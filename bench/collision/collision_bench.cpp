@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "collision_peers.h"
+#include "trocar/collision/detector.h"
 #include "trocar/core/error.h"
 #include "trocar/mesh/generate.h"
 #include "trocar/mesh/io/mesh_io.h"
@@ -110,6 +111,12 @@ void bm_collision(benchmark::State& state, SceneId id, PeerKind kind) {
   state.counters["pairs"] = d.mean_pairs;
   state.counters["tissue_T"] = static_cast<double>(d.scene.tissue.triangle_count());
   state.counters["tool_T"] = static_cast<double>(d.scene.tool.triangle_count());
+  if (const CollisionDetector* detector = peer->detector()) {
+    // The last frame's split (wall clock) and the broad phase's candidates, for diagnosis.
+    state.counters["candidates"] = static_cast<double>(detector->timings().candidate_pairs);
+    state.counters["broad_us"] = detector->timings().broad_phase_us;
+    state.counters["narrow_us"] = detector->timings().narrow_phase_us;
+  }
 }
 
 /// Registers every compiled-in, practical method on every scene (triangle counts are known up

@@ -78,6 +78,7 @@ class TrocarPeer final : public CollisionPeer {
     objects_[1].positions = tissue_positions;
     return detector_.detect(objects_).size();
   }
+  const CollisionDetector* detector() const override { return &detector_; }
 
  private:
   PeerKind kind_;
@@ -237,12 +238,13 @@ btDbvtVolume triangle_volume(const Vec3& a, const Vec3& b, const Vec3& c) {
 }
 
 /// btDbvt (Bullet's dynamic AABB tree, the one its btDbvtBroadphase uses) with one leaf per
-/// triangle. Every frame each tissue leaf gets update(leaf, box, margin) — re-inserted only when
-/// its box left the fattened one (margin = the perturbation amplitude), as btDbvtBroadphase does —
-/// then collideTT(tool, tissue) and the Möller test on each leaf pair.
+/// triangle, built top-down once. Every frame the tissue tree is refitted: each leaf gets its
+/// triangle's new box and the internal boxes are merged bottom-up (the tree's topology stays,
+/// like our BVH; btDbvt::update() would remove and re-insert every moved leaf, several times
+/// slower); then collideTT(tool, tissue) and the Möller test on each leaf pair.
 class BulletDbvtPeer final : public CollisionPeer {
  public:
-  explicit BulletDbvtPeer(const CollisionScene& scene) : scene_(scene), margin_(scene.amplitude) {
+  explicit BulletDbvtPeer(const CollisionScene& scene) : scene_(scene) {
     insert_all(tool_tree_, scene.tool, nullptr);
     insert_all(tissue_tree_, scene.tissue, &tissue_leaves_);
     tool_tree_.optimizeTopDown();
@@ -252,10 +254,10 @@ class BulletDbvtPeer final : public CollisionPeer {
   std::size_t count_pairs(std::span<const Vec3> tissue_positions) override {
     const std::vector<Triangle>& tris = scene_.tissue.triangles;
     for (std::size_t t = 0; t < tris.size(); ++t) {
-      btDbvtVolume box = triangle_volume(tissue_positions[tris[t][0]], tissue_positions[tris[t][1]],
-                                         tissue_positions[tris[t][2]]);
-      tissue_tree_.update(tissue_leaves_[t], box, margin_);
+      tissue_leaves_[t]->volume = triangle_volume(tissue_positions[tris[t][0]], tissue_positions[tris[t][1]],
+                                                  tissue_positions[tris[t][2]]);
     }
+    refit(tissue_tree_.m_root);
     Collector collector(scene_, tissue_positions);
     tissue_tree_.collideTTpersistentStack(tool_tree_.m_root, tissue_tree_.m_root, collector);
     return collector.count;
@@ -274,6 +276,14 @@ class BulletDbvtPeer final : public CollisionPeer {
     std::size_t count = 0;
   };
 
+  /// Internal boxes from the children's, bottom-up (the leaves are set already).
+  static void refit(btDbvtNode* node) {
+    if (node == nullptr || node->isleaf()) return;
+    refit(node->childs[0]);
+    refit(node->childs[1]);
+    Merge(node->childs[0]->volume, node->childs[1]->volume, node->volume);
+  }
+
   static void insert_all(btDbvt& tree, const TriMesh& mesh, std::vector<btDbvtNode*>* leaves) {
     for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
       const auto [a, b, c] = mesh.corners(t);
@@ -283,7 +293,6 @@ class BulletDbvtPeer final : public CollisionPeer {
   }
 
   const CollisionScene& scene_;
-  btScalar margin_;
   btDbvt tool_tree_, tissue_tree_;
   std::vector<btDbvtNode*> tissue_leaves_;
 };

@@ -15,6 +15,8 @@
 
 namespace trocar {
 
+class CollisionDetector;
+
 /// How the tool is placed and how the tissue deforms.
 struct CollisionSceneSettings {
   /// Depth of the tool's lowest point below the tissue's upper surface, as a fraction of the
@@ -60,7 +62,7 @@ enum class PeerKind {
   kFclAabb,        ///< FCL BVHModel<AABB>, refitted, collide() with all contacts
   kFclObbrss,      ///< FCL BVHModel<OBBRSS>, refitted, collide() with all contacts
   kBulletGimpact,  ///< Bullet btGImpactMeshShape (refit via postUpdate), BVH pairs + Möller test
-  kBulletDbvt,     ///< Bullet btDbvt over triangle leaves (per-frame update) + Möller test
+  kBulletDbvt,     ///< Bullet btDbvt over triangle leaves (per-frame refit) + Möller test
 };
 
 /// Every kind, in the order of the tables.
@@ -83,6 +85,9 @@ class CollisionPeer {
   /// `tissue_positions` (tissue.vertex_count() of them). Refits or rebuilds whatever the method
   /// keeps; the tool does not move.
   virtual std::size_t count_pairs(std::span<const Vec3> tissue_positions) = 0;
+  /// trocar's detector behind the ohc / bvh / brute peers (its timings and statistics of the
+  /// last frame); null for the other libraries.
+  virtual const CollisionDetector* detector() const { return nullptr; }
 };
 
 /// The method `kind` set up for `scene` (structures built on the rest shape). Throws
