@@ -83,10 +83,10 @@ ContactResponse respond_contact(const ContactTriangles& tri, const Obb& box, con
   // on the plane counts as outside).
   const Real d[3] = {n_out.dot(tri.a[0] - b0), n_out.dot(tri.a[1] - b0), n_out.dot(tri.a[2] - b0)};
   const Real dmax = std::max({std::abs(d[0]), std::abs(d[1]), std::abs(d[2])});
-  const Real longest_a2 = std::max({(tri.a[1] - tri.a[0]).squaredNorm(), (tri.a[2] - tri.a[0]).squaredNorm(),
-                                    (tri.a[2] - tri.a[1]).squaredNorm()});
-  // Coplanar: every vertex within the tri–tri tolerance of the plane (L = the pair's size).
-  if (dmax * dmax <= kTriTriTolerance * kTriTriTolerance * std::max(longest2, longest_a2)) {
+  // Coplanar: every vertex within kTriTriTolerance·L of the plane, L = B's longest edge (the
+  // detector uses the pair's size; B's alone is cheaper and never larger, so no pair the
+  // detector calls non-coplanar is called coplanar here).
+  if (dmax * dmax <= kTriTriTolerance * kTriTriTolerance * longest2) {
     r.status = ContactStatus::kCoplanar;
     return r;
   }
@@ -120,40 +120,38 @@ ContactResponse respond_contact(const ContactTriangles& tri, const Obb& box, con
 
   // ---- Step 4: P = N if its barycentric coordinates in B are all ≥ 0; otherwise move it along
   // MN to the tissue triangle's edge. λ(M + s(N − M)) = λM + s(λN − λM) is affine in s, so the
-  // part of MN inside B is the interval of s ∈ [0, 1] where all three are ≥ 0; P is its end
-  // nearest N (the edge MN leaves B through, Fig. 3.7).
-  const Real inv_nn = Real{1} / nn;
+  // part of MN inside B is an interval of s ∈ [0, 1]; P is its end nearest N (the edge MN leaves
+  // B through, Fig. 3.7): s = min(1, min over λN_i < 0 of λM_i/(λM_i − λN_i)), the first zero
+  // crossing of a coordinate that is negative at N. If the interval is empty (MN misses B), some
+  // coordinate of P is still negative, which the check below catches.
+  const Real inv_nn = inv_len * inv_len;
   const Vec3 c_beta = e1.cross(nrm) * inv_nn;
   const Vec3 c_gamma = nrm.cross(e0) * inv_nn;
   const Vec3 lm = bary(m, b0, c_beta, c_gamma);
   const Vec3 ln = bary(n, b0, c_beta, c_gamma);
-  Real lo = 0, hi = 1;
-  bool empty = false;
+  Real s = 1;
   for (int i = 0; i < 3; ++i) {
-    const Real delta = ln[i] - lm[i];
-    if (delta > 0) {
-      lo = std::max(lo, -lm[i] / delta);
-    } else if (delta < 0) {
-      hi = std::min(hi, lm[i] / -delta);
-    } else if (lm[i] < 0) {
-      empty = true;
+    // λN_i < 0 ≤ ... : λM_i − λN_i > 0 unless λM_i ≤ λN_i < 0 too (then the crossing is behind
+    // M: s would be ≤ 0; clamp to 0 and let the check decide).
+    if (ln[i] < 0) {
+      const Real gap = lm[i] - ln[i];
+      s = gap > 0 ? std::min(s, lm[i] / gap) : Real{0};
     }
   }
-  // A pair that only touches within the detector's tolerance may leave an empty interval of
-  // rounding size; take its middle. A real miss gives no force.
-  if (empty || hi < lo) {
-    if (empty || lo - hi > 1e-9) {
+  s = std::max(s, Real{0});
+  Vec3 wb = lm + s * (ln - lm);
+  // A pair touching within the detector's tolerance leaves coordinates of rounding size below
+  // 0; a real miss gives no force.
+  if (wb.minCoeff() < 0) {
+    if (wb.minCoeff() < -1e-9) {
       r.status = ContactStatus::kMissed;
       return r;
     }
-    hi = std::clamp(Real{0.5} * (lo + hi), Real{0}, Real{1});
+    wb = wb.cwiseMax(Real{0});
+    wb /= wb.sum();  // the sum stays ≥ 1 > 0
   }
-  const Real s = hi;
   r.moved_to_edge = s < 1;
   r.point = m + s * (n - m);
-  // Weights in B: clamp the rounding-size negatives and renormalise (the sum stays ≥ 1 > 0).
-  Vec3 wb = (lm + s * (ln - lm)).cwiseMax(Real{0});
-  wb /= wb.sum();
   r.weights_b = wb;
   // Weights in A, exactly: M = (1−tm)A1 + tm·A3, N = (1−tn)A2 + tn·A3, P = (1−s)M + s·N.
   Vec3 wa = Vec3::Zero();
