@@ -68,25 +68,28 @@ ContactResponse respond_contact(const ContactTriangles& tri, const Obb& box, con
     r.status = ContactStatus::kDegenerateTissue;
     return r;
   }
+  // The unit normal needs a square root and a division; everything up to step 7 uses only
+  // signs and ratios of distances, so it works with the unnormalised n (|n| = 2·area) and keeps
+  // the root off the critical path.
   const Real inv_len = Real{1} / std::sqrt(nn);
   const Vec3 n_out = nrm * inv_len;
   const Vec3 n_in = -n_out;
   r.normal_in = n_in;
 
   // ---- Step 9 (cheapest first): the far surface of a pierced organ has the top vertex inside.
-  if (settings.pierce_filter && top != nullptr && n_out.dot(*top - b0) < 0) {
+  if (settings.pierce_filter && top != nullptr && nrm.dot(*top - b0) < 0) {
     r.status = ContactStatus::kPierced;
     return r;
   }
 
   // ---- Step 2: classify A_i by d_i = n_out·(A_i − B1); inside means d_i < 0 (a vertex exactly
-  // on the plane counts as outside).
-  const Real d[3] = {n_out.dot(tri.a[0] - b0), n_out.dot(tri.a[1] - b0), n_out.dot(tri.a[2] - b0)};
+  // on the plane counts as outside). d holds |n|·d_i (same signs and ratios).
+  const Real d[3] = {nrm.dot(tri.a[0] - b0), nrm.dot(tri.a[1] - b0), nrm.dot(tri.a[2] - b0)};
   const Real dmax = std::max({std::abs(d[0]), std::abs(d[1]), std::abs(d[2])});
   // Coplanar: every vertex within kTriTriTolerance·L of the plane, L = B's longest edge (the
   // detector uses the pair's size; B's alone is cheaper and never larger, so no pair the
   // detector calls non-coplanar is called coplanar here).
-  if (dmax * dmax <= kTriTriTolerance * kTriTriTolerance * longest2) {
+  if (dmax * dmax <= kTriTriTolerance * kTriTriTolerance * longest2 * nn) {
     r.status = ContactStatus::kCoplanar;
     return r;
   }
@@ -124,7 +127,7 @@ ContactResponse respond_contact(const ContactTriangles& tri, const Obb& box, con
   // B through, Fig. 3.7): s = min(1, min over λN_i < 0 of λM_i/(λM_i − λN_i)), the first zero
   // crossing of a coordinate that is negative at N. If the interval is empty (MN misses B), some
   // coordinate of P is still negative, which the check below catches.
-  const Real inv_nn = inv_len * inv_len;
+  const Real inv_nn = Real{1} / nn;
   const Vec3 c_beta = e1.cross(nrm) * inv_nn;
   const Vec3 c_gamma = nrm.cross(e0) * inv_nn;
   const Vec3 lm = bary(m, b0, c_beta, c_gamma);
@@ -168,40 +171,44 @@ ContactResponse respond_contact(const ContactTriangles& tri, const Obb& box, con
 
   // ---- Steps 5 and 7: depth.
   Vec3 dvec = Vec3::Zero();
+  Real depth = 0;
   switch (settings.method) {
     case ResponseMethod::kObb:
     case ResponseMethod::kProject: {
-      // Eq. 3.7: PD = Pd1 + Pd2 + Pd3 from the carried OBB.
-      const Vec3 pd = obb_penetration(box, r.point, n_in);
+      // Eq. 3.7: PD = Pd1 + Pd2 + Pd3 from the carried OBB (only the signs of a_k·n_in matter,
+      // so the unnormalised −n is passed).
+      const Vec3 pd = obb_penetration(box, r.point, -nrm);
       r.penetration = pd;
-      // Eq. 3.8: D = (PD·v̂) v̂; resting (|v| ≤ threshold) or receding along PD: D = (PD·n_in) n_in.
+      // Eq. 3.8: D = (PD·v̂) v̂ = (PD·v / v·v) v, |D| = PD·v / |v|; resting (|v| ≤ threshold) or
+      // receding along PD (PD·v ≤ 0): D = (PD·n_in) n_in, |D| = PD·n_in (≥ 0: every Pd_k has
+      // a non-negative component along n_in).
       const Real speed2 = v_rel.squaredNorm();
-      const Real rest2 = settings.resting_speed * settings.resting_speed;
-      Real along = 0;
-      Vec3 vhat = Vec3::Zero();
-      if (speed2 > rest2 && speed2 > 0) {
-        vhat = v_rel / std::sqrt(speed2);
-        along = pd.dot(vhat);
+      const Real pv = pd.dot(v_rel);
+      if (speed2 > settings.resting_speed * settings.resting_speed && speed2 > 0 && pv > 0) {
+        dvec = (pv / speed2) * v_rel;
+        depth = pv / std::sqrt(speed2);
+      } else {
+        depth = std::max(pd.dot(n_in), Real{0});
+        dvec = depth * n_in;
       }
-      dvec = along > 0 ? Vec3(along * vhat) : Vec3(pd.dot(n_in) * n_in);
       break;
     }
     case ResponseMethod::kPrimitive: {
       // The two triangles alone: the instrument triangle's deepest vertex below the plane.
-      const Real depth = -std::min({d[0], d[1], d[2]});
+      depth = -std::min({d[0], d[1], d[2]}) * inv_len;
       dvec = depth * n_in;
       break;
     }
     case ResponseMethod::kNormal: {
       // The instrument's deepest vertex along n_in (A's vertices when none are given).
-      Real depth = -std::min({d[0], d[1], d[2]});
+      depth = -std::min({d[0], d[1], d[2]}) * inv_len;
       for (const Vec3& x : instrument_positions) depth = std::max(depth, n_in.dot(x - b0));
       dvec = depth * n_in;
       break;
     }
   }
   r.deformation = dvec;
-  r.depth = dvec.norm();
+  r.depth = depth;
 
   // ---- Step 8, eq. 3.9 with the damping signed to resist approach: f = max(0, K|D| + μ v_rel·n_in).
   const Real f = std::max(Real{0}, settings.stiffness * r.depth + settings.damping * v_rel.dot(n_in));

@@ -62,7 +62,8 @@ ContactResponse respond_contact(const ContactTriangles& tri, const Obb& box, con
                                 std::span<const Vec3> instrument_positions,
                                 const ResponseSettings& settings);
 
-/// Step 5 alone: PD = Σ_k Pd_k for P in `box` and the tissue's inner normal n_in. For each axis
+/// Step 5 alone: PD = Σ_k Pd_k for P in `box` and the tissue's inner normal n_in (any length:
+/// only the signs of a_k·n_in are used). For each axis
 /// a_k the ray from P along s_k·a_k, s_k = sign(a_k·n_in), leaves the box at distance
 /// t_k = h_k − s_k·(a_k·(P − c)) (the slab exit; clamped at 0 for P a hair outside), so
 /// Pd_k = t_k·s_k·a_k; an axis with a_k·n_in = 0 contributes nothing.
