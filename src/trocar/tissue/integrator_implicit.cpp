@@ -51,6 +51,9 @@
 // test would polish noise); at least one iteration always runs.
 #include <algorithm>
 #include <cmath>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "trocar/tissue/integrator.h"
 
@@ -92,6 +95,21 @@ inline void subtract_from(Vec3& f, const P3& a) {
   f[0] -= a.x;
   f[1] -= a.y;
   f[2] -= a.z;
+}
+/// inv[k] = len2[k] > kTinyLength2 ? 1/√len2[k] : 0 for k < m; bit for bit the scalar
+/// expression (IEEE square root and division are correctly rounded in every lane).
+inline void safe_inverse_sqrts(const Real* len2, Real* inv, std::size_t m) {
+  std::size_t k = 0;
+#if defined(__SSE2__)
+  const __m128d tiny = _mm_set1_pd(kTinyLength2);
+  const __m128d one = _mm_set1_pd(1.0);
+  for (; k + 2 <= m; k += 2) {
+    const __m128d l = _mm_loadu_pd(len2 + k);
+    const __m128d r = _mm_div_pd(one, _mm_sqrt_pd(_mm_max_pd(l, tiny)));
+    _mm_storeu_pd(inv + k, _mm_and_pd(_mm_cmpgt_pd(l, tiny), r));  // 0 where not > tiny (or NaN)
+  }
+#endif
+  for (; k < m; ++k) inv[k] = len2[k] > kTinyLength2 ? 1.0 / std::sqrt(len2[k]) : 0.0;
 }
 inline void store(Real* out, const P3& a) {
   out[0] = a.x;
@@ -135,12 +153,26 @@ void MassSpringIntegrator::linearise(const MassSpringState& state, const TissueL
     const std::uint32_t* order = spring_order_.data();
     CachedSpring* cache = spring_cache_.data();
     const std::size_t ns = s.springs.size();
+    // In chunks: the lengths first, then every 1/|d| of the chunk in one SIMD loop (so the
+    // square roots and divisions pipeline instead of heading one long chain per spring).
+    constexpr std::size_t kChunk = 64;
+    alignas(16) Real chunk_len2[kChunk], chunk_inv[kChunk];
     for (std::size_t e = 0; e < ns; ++e) {
+      const std::size_t k = e % kChunk;
+      if (k == 0) {
+        const std::size_t m = std::min(kChunk, ns - e);
+        for (std::size_t q = 0; q < m; ++q) {
+          const Spring& sq = springs[order[e + q]];
+          const P3 dq = load(x[sq.j]) - load(x[sq.i]);
+          chunk_len2[q] = dot(dq, dq);
+        }
+        safe_inverse_sqrts(chunk_len2, chunk_inv, m);
+      }
       const Spring& sp = springs[order[e]];
       const P3 d = load(x[sp.j]) - load(x[sp.i]);
       const P3 dvel = load(v[sp.j]) - load(v[sp.i]);
-      const Real len2 = dot(d, d);
-      const Real inv = len2 > kTinyLength2 ? 1.0 / std::sqrt(len2) : 0.0;
+      const Real len2 = chunk_len2[k];
+      const Real inv = chunk_inv[k];
       const Real len = len2 * inv;
       const Real sigma = sp.stiffness * (len - sp.rest_length) * inv + sp.damping * dot(dvel, d) * inv * inv;
       const P3 u = inv * d;
