@@ -158,8 +158,8 @@ void MassSpringIntegrator::linearise(const MassSpringState& state, const TissueL
     constexpr std::size_t kChunk = 64;
     alignas(16) Real chunk_len2[kChunk], chunk_inv[kChunk];
     for (std::size_t e = 0; e < ns; ++e) {
-      const std::size_t k = e % kChunk;
-      if (k == 0) {
+      const std::size_t slot = e % kChunk;
+      if (slot == 0) {
         const std::size_t m = std::min(kChunk, ns - e);
         for (std::size_t q = 0; q < m; ++q) {
           const Spring& sq = springs[order[e + q]];
@@ -171,8 +171,8 @@ void MassSpringIntegrator::linearise(const MassSpringState& state, const TissueL
       const Spring& sp = springs[order[e]];
       const P3 d = load(x[sp.j]) - load(x[sp.i]);
       const P3 dvel = load(v[sp.j]) - load(v[sp.i]);
-      const Real len2 = chunk_len2[k];
-      const Real inv = chunk_inv[k];
+      const Real len2 = chunk_len2[slot];
+      const Real inv = chunk_inv[slot];
       const Real len = len2 * inv;
       const Real sigma = sp.stiffness * (len - sp.rest_length) * inv + sp.damping * dot(dvel, d) * inv * inv;
       const P3 u = inv * d;
