@@ -91,17 +91,17 @@ void check_organ(const char* name, const char* file, Real scale, int steps) {
   EXPECT_LE(out.max_speed, kMaxSettledSpeed) << name << " still moves at " << out.max_speed * 1e3 << " mm/s";
 }
 
-// 2194 V, 1.5 kg, 1 s simulated.
-TEST(Preset, LiverHoldsItsShapeUnderGravity) { check_organ("liver", "liver_sofa_smooth.obj", 0.01, 1000); }
-// 7352 V, 70 g, 0.6 s (settled to µm/s by then; the test's second-largest cost).
-TEST(Preset, GallbladderHoldsItsShapeUnderGravity) { check_organ("gallbladder", "gallbladder_lapgym.stl", 0.001, 600); }
-// 4694 V, 150 g, 0.7 s. The file is closed and manifold as shipped (SOURCES.md): no repair.
+// 2194 V, 1.5 kg, 1.5 s simulated.
+TEST(Preset, LiverHoldsItsShapeUnderGravity) { check_organ("liver", "liver_sofa_smooth.obj", 0.01, 1500); }
+// 7352 V, 70 g, 1 s.
+TEST(Preset, GallbladderHoldsItsShapeUnderGravity) { check_organ("gallbladder", "gallbladder_lapgym.stl", 0.001, 1000); }
+// 4694 V, 150 g, 1 s. The file is closed and manifold as shipped (SOURCES.md): no repair.
 TEST(Preset, StomachHoldsItsShapeUnderGravity) {
-  check_organ("stomach", "stomach_bodyparts3d_FMA7148.obj", 0.001, 700);
+  check_organ("stomach", "stomach_bodyparts3d_FMA7148.obj", 0.001, 1000);
 }
-// 15969 V, 1.6 kg; 0.3 s (the largest mesh, and the most CG iterations per step).
+// 15969 V, 1.6 kg; 0.6 s (the largest mesh and the largest cost of this test).
 TEST(Preset, AbdominalWallHoldsItsShapeUnderGravity) {
-  check_organ("abdominal_wall", "abdominal_wall_openhelp.stl", 0.001, 300);
+  check_organ("abdominal_wall", "abdominal_wall_openhelp.stl", 0.001, 600);
 }
 
 // The peritoneum preset on a 20 × 20 cm sheet (41 × 41 vertices) clamped along its border.
