@@ -1,0 +1,116 @@
+#include "trocar/mesh/instruments.h"
+
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include "trocar/core/error.h"
+#include "trocar/mesh/generate.h"
+
+namespace trocar {
+namespace {
+
+constexpr Real kPi = std::numbers::pi_v<Real>;
+
+void require(bool ok, const char* what) {
+  if (!ok) throw Error(std::string("instrument generator: ") + what);
+}
+
+bool positive(Real x) { return x > 0 && std::isfinite(x); }
+
+std::uint32_t u32(std::size_t i) { return static_cast<std::uint32_t>(i); }
+
+/// Appends `part` to `mesh` (indices shifted).
+void append(TriMesh& mesh, const TriMesh& part) {
+  const std::uint32_t base = u32(mesh.positions.size());
+  mesh.positions.insert(mesh.positions.end(), part.positions.begin(), part.positions.end());
+  for (const Triangle& t : part.triangles) mesh.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+}
+
+/// Reverses every triangle when the closed mesh's signed volume is negative (outward after).
+void orient_outward(TriMesh& mesh) {
+  if (mesh.signed_volume() >= 0) return;
+  for (Triangle& t : mesh.triangles) std::swap(t[1], t[2]);
+}
+
+/// A box whose z = 0 face is the rectangle [x0, x1] × [y0, y1] shrunk about its centre by
+/// `tip_scale` and whose z = length face is the full rectangle. 8 V, 12 T, outward.
+TriMesh tapered_box(Real x0, Real x1, Real y0, Real y1, Real length, Real tip_scale) {
+  TriMesh box = make_box(1, 1, 1);  // corners ±0.5, the same triangles
+  const Real cx = (x0 + x1) / 2, cy = (y0 + y1) / 2;
+  for (Vec3& p : box.positions) {
+    const Real s = p.z() < 0 ? tip_scale : 1;  // the −z face becomes the tip at z = 0
+    p = Vec3(cx + s * p.x() * (x1 - x0), cy + s * p.y() * (y1 - y0), (p.z() + 0.5) * length);
+  }
+  return box;
+}
+
+}  // namespace
+
+InstrumentMesh make_grasper(const GrasperSize& size) {
+  require(positive(size.shaft_radius) && positive(size.shaft_length), "grasper shaft sizes must be positive");
+  require(positive(size.jaw_length) && positive(size.jaw_width) && positive(size.jaw_thickness),
+          "grasper jaw sizes must be positive");
+  require(size.jaw_gap >= 0 && std::isfinite(size.jaw_gap), "grasper jaw gap must be >= 0");
+  require(size.segments >= 3, "grasper needs segments >= 3");
+  InstrumentMesh out;
+  const Real hw = size.jaw_width / 2, g = size.jaw_gap / 2, t = size.jaw_thickness;
+  constexpr Real kTip = 2.0 / 3.0;
+  // The jaws' centres sit at y = ±(g + t/2); the taper shrinks about those centres, so the
+  // grasping faces lie at |y| = g + t/2·(1 − kTip) at the tip and g at the base.
+  append(out.mesh, tapered_box(-hw, hw, g, g + t, size.jaw_length, kTip));
+  append(out.mesh, tapered_box(-hw, hw, -g - t, -g, size.jaw_length, kTip));
+  for (std::uint32_t i = 0; i < 24; ++i) out.jaw_triangles.push_back(i);
+  TriMesh shaft = make_cylinder(size.shaft_radius, size.shaft_length, size.segments, true);
+  for (Vec3& p : shaft.positions) p.z() += size.jaw_length;
+  append(out.mesh, shaft);
+  return out;
+}
+
+InstrumentMesh make_hook_probe(const HookSize& size) {
+  require(positive(size.shaft_radius) && positive(size.shaft_length), "hook shaft sizes must be positive");
+  require(positive(size.hook_radius) && size.hook_radius < size.shaft_radius, "hook wire radius must be in (0, shaft radius)");
+  require(size.stem_length > 2 * size.hook_radius && std::isfinite(size.stem_length), "hook stem must be longer than the wire's diameter");
+  require(size.hook_length > size.hook_radius && std::isfinite(size.hook_length), "hook foot must be longer than the wire's radius");
+  require(size.segments >= 3, "hook needs segments >= 3");
+  const std::size_t s = size.segments;
+  const Real r = size.hook_radius, R = size.shaft_radius;
+  const Real top = size.stem_length + size.shaft_length;
+  InstrumentMesh out;
+  TriMesh& m = out.mesh;
+  // The elbow's axis point is C = (0, 0, r). Around the stem (axis z) a point at angle φ is
+  // (r cos φ, r sin φ); on the mitre plane (normal ∝ (1, 0, −1)) its height is r + r cos φ,
+  // which is also at distance r from the foot's axis (the x axis at z = r).
+  for (std::size_t i = 0; i < s; ++i) {  // ring 0: the foot's end, a circle in the plane x = L
+    const Real a = 2 * kPi * static_cast<Real>(i) / static_cast<Real>(s);
+    m.positions.emplace_back(size.hook_length, r * std::sin(a), r + r * std::cos(a));
+  }
+  for (std::size_t i = 0; i < s; ++i) {  // ring 1: the elbow
+    const Real a = 2 * kPi * static_cast<Real>(i) / static_cast<Real>(s);
+    m.positions.emplace_back(r * std::cos(a), r * std::sin(a), r + r * std::cos(a));
+  }
+  const Real rings[3][2] = {{r, size.stem_length}, {R, size.stem_length}, {R, top}};
+  for (const auto& ring : rings)  // rings 2..4: stem top, shaft bottom, shaft top
+    for (std::size_t i = 0; i < s; ++i) {
+      const Real a = 2 * kPi * static_cast<Real>(i) / static_cast<Real>(s);
+      m.positions.emplace_back(ring[0] * std::cos(a), ring[0] * std::sin(a), ring[1]);
+    }
+  const std::size_t foot_centre = m.positions.size();
+  m.positions.emplace_back(size.hook_length, 0, r);
+  m.positions.emplace_back(0, 0, top);
+  for (std::size_t k = 0; k < 4; ++k)
+    for (std::size_t i = 0; i < s; ++i) {
+      const std::size_t j = (i + 1) % s, lo = k * s, hi = (k + 1) * s;
+      m.triangles.push_back({u32(lo + i), u32(lo + j), u32(hi + j)});
+      m.triangles.push_back({u32(lo + i), u32(hi + j), u32(hi + i)});
+    }
+  for (std::size_t i = 0; i < s; ++i) {
+    const std::size_t j = (i + 1) % s;
+    m.triangles.push_back({u32(foot_centre), u32(j), u32(i)});
+    m.triangles.push_back({u32(foot_centre + 1), u32(4 * s + i), u32(4 * s + j)});
+  }
+  orient_outward(m);
+  return out;
+}
+
+}  // namespace trocar

@@ -1,0 +1,75 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "trocar/core/error.h"
+#include "trocar/mesh/instruments.h"
+#include "trocar/mesh/validate.h"
+
+namespace trocar {
+namespace {
+
+TEST(Instruments, GrasperCountsJawsAndSizes) {
+  const GrasperSize size;
+  const InstrumentMesh g = make_grasper(size);
+  const std::size_t s = size.segments;
+  EXPECT_EQ(g.mesh.positions.size(), 16 + 2 * s + 2);
+  EXPECT_EQ(g.mesh.triangles.size(), 24 + 4 * s);
+  const MeshReport r = validate(g.mesh);
+  EXPECT_TRUE(r.is_clean()) << ::testing::PrintToString(r.defects());
+  EXPECT_EQ(r.components, 3u);
+  EXPECT_EQ(r.euler_characteristic, 6);
+  ASSERT_EQ(g.jaw_triangles.size(), 24u);
+  for (std::uint32_t t : g.jaw_triangles) {
+    ASSERT_LT(t, g.mesh.triangles.size());
+    for (int k = 0; k < 3; ++k) EXPECT_LE(g.mesh.positions[g.mesh.triangles[t][k]].z(), size.jaw_length + 1e-15);
+  }
+  // Tip at the origin, shaft along +z: z ∈ [0, jaw + shaft], Ø5 mm.
+  EXPECT_EQ(r.bounds.min.z(), 0.0);
+  EXPECT_NEAR(r.bounds.max.z(), 0.32, 1e-15);
+  EXPECT_NEAR(r.bounds.max.x(), 0.0025, 1e-15);
+  // Jaw grasping faces at y = ±gap/2 at the base: no vertex of the jaws inside the gap.
+  for (std::size_t v = 0; v < 16; ++v) EXPECT_GE(std::abs(g.mesh.positions[v].y()), size.jaw_gap / 2 - 1e-15);
+  // Volume: two frusta-like boxes and the shaft's prism ½·s·r²·sin(2π/s)·L.
+  const Real shaft = 0.5 * static_cast<Real>(s) * 0.0025 * 0.0025 * std::sin(2 * std::numbers::pi / static_cast<Real>(s)) * 0.30;
+  const Real base = size.jaw_width * size.jaw_thickness, tip = base * 4.0 / 9.0;
+  // A prismatoid with similar end faces: V = L/3·(A₁ + A₂ + √(A₁A₂)).
+  const Real jaw = size.jaw_length / 3 * (base + tip + std::sqrt(base * tip));
+  EXPECT_NEAR(r.signed_volume, shaft + 2 * jaw, 1e-15);
+}
+
+TEST(Instruments, HookProbeOneClosedTube) {
+  const HookSize size;
+  const InstrumentMesh h = make_hook_probe(size);
+  const std::size_t s = size.segments;
+  EXPECT_TRUE(h.jaw_triangles.empty());
+  EXPECT_EQ(h.mesh.positions.size(), 5 * s + 2);
+  EXPECT_EQ(h.mesh.triangles.size(), 10 * s);
+  const MeshReport r = validate(h.mesh);
+  EXPECT_TRUE(r.is_clean()) << ::testing::PrintToString(r.defects());
+  EXPECT_EQ(r.components, 1u);
+  EXPECT_EQ(r.euler_characteristic, 2);
+  // The elbow's outer bottom at the origin; the foot out to +x; shaft Ø4.5 mm up +z.
+  EXPECT_NEAR(r.bounds.min.z(), 0.0, 1e-18);
+  EXPECT_NEAR(r.bounds.max.x(), size.hook_length, 1e-15);
+  EXPECT_NEAR(r.bounds.min.x(), -size.shaft_radius, 1e-15);
+  EXPECT_NEAR(r.bounds.max.z(), size.stem_length + size.shaft_length, 1e-15);
+  // Volume ≈ the shaft's prism plus the wire (stem + foot), the wire within its mitre error.
+  const Real sn = std::sin(2 * std::numbers::pi / static_cast<Real>(s)) * 0.5 * static_cast<Real>(s);
+  const Real shaft = sn * size.shaft_radius * size.shaft_radius * size.shaft_length;
+  const Real wire = sn * size.hook_radius * size.hook_radius * (size.stem_length + size.hook_length);
+  EXPECT_NEAR(r.signed_volume, shaft + wire, 0.05 * wire);
+}
+
+TEST(Instruments, RejectBadSizes) {
+  GrasperSize g;
+  g.jaw_length = 0;
+  EXPECT_THROW(make_grasper(g), Error);
+  HookSize h;
+  h.hook_radius = h.shaft_radius;
+  EXPECT_THROW(make_hook_probe(h), Error);
+}
+
+}  // namespace
+}  // namespace trocar
