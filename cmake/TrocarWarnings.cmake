@@ -39,5 +39,6 @@ function(trocar_add_test name)
   target_compile_definitions(${name} PRIVATE
     TROCAR_SHARED_MESHES="${PROJECT_SOURCE_DIR}/../shared/data/meshes")
   trocar_target_warnings(${name})
-  gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60 TEST_PREFIX "${name}.")
+  gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60 TEST_PREFIX "${name}."
+    PROPERTIES ENVIRONMENT "LSAN_OPTIONS=suppressions=${PROJECT_SOURCE_DIR}/tests/lsan.supp")
 endfunction()
