@@ -1,0 +1,255 @@
+#include "trocar/scene/scene.h"
+
+#include <fstream>
+#include <limits>
+#include <sstream>
+
+#include "trocar/core/error.h"
+#include "trocar/core/pose.h"
+#include "trocar/mesh/repair.h"
+#include "trocar/scene/json_reader.h"
+#include "trocar/scene/mesh_source.h"
+#include "trocar/tissue/material.h"
+
+namespace trocar {
+namespace {
+
+constexpr auto kMaxIndex = static_cast<std::int64_t>(std::numeric_limits<std::uint32_t>::max());
+
+/// "mesh", "scale", "translate", "rotate_deg", "repair" of any object: the mesh with
+/// x ↦ translate + R·(scale·x) applied (DESIGN.md §5 placement).
+TriMesh placed_mesh(const JsonReader& obj, const std::filesystem::path& dir) {
+  TriMesh mesh = load_mesh_source(obj.at("mesh"), dir);
+  const Real scale = obj.has("scale") ? obj.at("scale").number_above(0) : 1.0;
+  const Pose place = Pose::from_euler_deg(obj.vec3_or("translate", Vec3::Zero()), obj.vec3_or("rotate_deg", Vec3::Zero()));
+  for (Vec3& p : mesh.positions) p = place.apply(scale * p);
+  for (Vec3& n : mesh.normals) n = place.apply_vector(n);
+  if (obj.boolean_or("repair", false)) repair(mesh);
+  if (mesh.empty()) obj.at("mesh").fail("the mesh has no triangles");
+  return mesh;
+}
+
+std::string name_or(const JsonReader& obj, const char* prefix, std::size_t index) {
+  return obj.string_or("name", prefix + std::to_string(index));
+}
+
+MassSpringMaterial read_material(const JsonReader& m) {
+  m.expect_keys({"preset", "mass", "density", "sheet_thickness", "k_structural", "k_bending", "damping",
+                 "spring_damping", "k_area", "k_volume", "k_home"});
+  MassSpringMaterial out;
+  if (m.has("preset")) {
+    const JsonReader p = m.at("preset");
+    const std::string name = p.string();
+    try {
+      out = material_preset(name);
+    } catch (const Error& e) {
+      p.fail(e.what());
+    }
+  }
+  const auto field = [&](const char* key, Real& value) {
+    if (m.has(key)) value = m.at(key).number_at_least(0);
+  };
+  field("mass", out.mass);
+  field("density", out.density);
+  field("sheet_thickness", out.sheet_thickness);
+  field("k_structural", out.k_structural);
+  field("k_bending", out.k_bending);
+  field("damping", out.damping);
+  field("spring_damping", out.spring_damping);
+  field("k_area", out.k_area);
+  field("k_volume", out.k_volume);
+  field("k_home", out.k_home);
+  return out;
+}
+
+FixedSelection read_fixed(const JsonReader& f, std::size_t vertex_count) {
+  f.expect_keys({"indices", "below_plane", "inside_box"});
+  FixedSelection out;
+  if (f.has("indices")) {
+    const JsonReader list = f.at("indices");
+    for (std::size_t i = 0; i < list.array_size(); ++i)
+      out.indices.push_back(static_cast<std::uint32_t>(
+          list.at(i).integer(0, static_cast<std::int64_t>(vertex_count) - 1)));
+  }
+  if (f.has("below_plane")) {
+    const JsonReader p = f.at("below_plane");
+    p.expect_keys({"point", "normal"});
+    Plane plane{p.at("point").vec3(), p.at("normal").vec3()};
+    if (plane.normal.norm() == 0) p.at("normal").fail("must not be zero");
+    out.below_plane = plane;
+  }
+  if (f.has("inside_box")) {
+    const JsonReader b = f.at("inside_box");
+    b.expect_keys({"min", "max"});
+    Aabb box{b.at("min").vec3(), b.at("max").vec3()};
+    if ((box.min.array() > box.max.array()).any()) b.at("max").fail("must be >= min on every axis");
+    out.inside_box = box;
+  }
+  return out;
+}
+
+IntegratorKind read_integrator(const JsonReader& obj) {
+  if (!obj.has("integrator")) return IntegratorKind::kImplicitEuler;
+  const JsonReader r = obj.at("integrator");
+  const std::string name = r.string();
+  try {
+    return integrator_from_name(name);
+  } catch (const Error& e) {
+    r.fail(e.what());
+  }
+}
+
+void read_tissue(const JsonReader& t, std::size_t index, Scene& scene, const std::filesystem::path& dir) {
+  t.expect_keys({"name", "mesh", "scale", "translate", "rotate_deg", "repair", "material", "fixed", "integrator"});
+  const std::string name = name_or(t, "tissue", index);
+  const TriMesh mesh = placed_mesh(t, dir);
+  const MassSpringMaterial material = t.has("material") ? read_material(t.at("material")) : MassSpringMaterial{};
+  const FixedSelection fixed = t.has("fixed") ? read_fixed(t.at("fixed"), mesh.vertex_count()) : FixedSelection{};
+  const IntegratorKind kind = read_integrator(t);
+  try {
+    scene.world.add_tissue(name, mesh, material, fixed, scene.gravity, kind);
+  } catch (const Error& e) {
+    t.fail(e.what());
+  }
+}
+
+KeyframeMotion read_motion(const JsonReader& m) {
+  m.expect_keys({"keyframes"});
+  const JsonReader list = m.at("keyframes");
+  std::vector<Keyframe> keys;
+  for (std::size_t i = 0; i < list.array_size(); ++i) {
+    const JsonReader k = list.at(i);
+    k.expect_keys({"t", "position", "rotate_deg", "jaw"});
+    Keyframe key;
+    key.t = k.at("t").number_at_least(0);
+    if (!keys.empty() && !(key.t > keys.back().t)) k.at("t").fail("must be greater than the previous keyframe's t");
+    key.position = k.at("position").vec3();
+    key.rotation = Pose::from_euler_deg(Vec3::Zero(), k.vec3_or("rotate_deg", Vec3::Zero())).rotation;
+    if (k.has("jaw")) {
+      key.jaw = k.at("jaw").number_at_least(0);
+      if (key.jaw > 1) k.at("jaw").fail("must be <= 1");
+    }
+    keys.push_back(key);
+  }
+  if (keys.empty()) list.fail("must hold at least one keyframe");
+  return KeyframeMotion(std::move(keys));
+}
+
+void read_instrument(const JsonReader& r, std::size_t index, Scene& scene, const std::filesystem::path& dir) {
+  r.expect_keys({"name", "mesh", "scale", "translate", "rotate_deg", "repair", "top_vertex", "shaft_direction",
+                 "jaw_triangles", "motion", "device"});
+  const std::string name = name_or(r, "instrument", index);
+  TriMesh mesh = placed_mesh(r, dir);
+  const std::size_t nv = mesh.vertex_count();
+  const std::size_t nt = mesh.triangle_count();
+  Instrument instrument(std::move(mesh), r.vec3_or("shaft_direction", Vec3::Zero()));
+  if (r.has("top_vertex")) {
+    const JsonReader top = r.at("top_vertex");
+    if (top.is_string()) {
+      if (top.string() != "auto") top.fail("must be \"auto\" or a vertex index");
+    } else {
+      instrument.set_top_vertex(static_cast<std::uint32_t>(top.integer(0, static_cast<std::int64_t>(nv) - 1)));
+    }
+  }
+  if (r.has("jaw_triangles")) {
+    const JsonReader list = r.at("jaw_triangles");
+    std::vector<std::uint32_t> tris;
+    for (std::size_t i = 0; i < list.array_size(); ++i)
+      tris.push_back(static_cast<std::uint32_t>(list.at(i).integer(0, static_cast<std::int64_t>(nt) - 1)));
+    instrument.set_jaw_triangles(tris);
+  }
+  if (r.has("device")) r.at("device").fail("devices are not supported by `trocar run` yet; use \"motion\"");
+  KeyframeMotion motion = r.has("motion") ? read_motion(r.at("motion")) : KeyframeMotion{};
+  scene.world.add_instrument(name, std::move(instrument), std::move(motion));
+}
+
+void read_rigid(const JsonReader& r, std::size_t index, Scene& scene, const std::filesystem::path& dir) {
+  r.expect_keys({"name", "mesh", "scale", "translate", "rotate_deg", "repair"});
+  scene.world.add_rigid(name_or(r, "rigid", index), placed_mesh(r, dir));
+}
+
+void read_collision(const JsonReader& c, Scene& scene) {
+  c.expect_keys({"broad_phase", "cell_size", "period"});
+  SimulationSettings& s = scene.settings;
+  if (c.has("broad_phase")) {
+    const JsonReader b = c.at("broad_phase");
+    const std::string name = b.string();
+    if (name == "ohc") s.broad_phase = BroadPhaseKind::kOhc;
+    else if (name == "bvh") s.broad_phase = BroadPhaseKind::kBvh;
+    else if (name == "brute") s.broad_phase = BroadPhaseKind::kBruteForce;
+    else b.fail("unknown broad phase \"" + name + "\" (known: ohc, bvh, brute)");
+  }
+  if (c.has("cell_size")) {
+    const JsonReader cs = c.at("cell_size");
+    if (cs.is_string()) {
+      if (cs.string() != "auto") cs.fail("must be \"auto\" or a number > 0");
+      s.cell_size = 0;
+    } else {
+      s.cell_size = cs.number_above(0);
+    }
+  }
+  if (c.has("period")) s.collision_period = c.at("period").number_above(0);
+}
+
+void read_response(const JsonReader& r, Scene& scene) {
+  r.expect_keys({"method", "stiffness", "damping", "max_force", "resting_speed", "grasp_closure", "pierce_filter"});
+  ResponseSettings& s = scene.settings.response;
+  if (r.has("method")) {
+    const JsonReader m = r.at("method");
+    const std::string name = m.string();
+    const auto method = parse_response_method(name);
+    if (!method) m.fail("unknown method \"" + name + "\" (known: obb, primitive, normal, project)");
+    s.method = *method;
+  }
+  if (r.has("stiffness")) s.stiffness = r.at("stiffness").number_at_least(0);
+  if (r.has("damping")) s.damping = r.at("damping").number_at_least(0);
+  if (r.has("max_force")) s.max_force = r.at("max_force").number();
+  if (r.has("resting_speed")) s.resting_speed = r.at("resting_speed").number_at_least(0);
+  if (r.has("grasp_closure")) {
+    s.grasp_closure = r.at("grasp_closure").number_at_least(0);
+    if (s.grasp_closure > 1) r.at("grasp_closure").fail("must be <= 1");
+  }
+  if (r.has("pierce_filter")) s.pierce_filter = r.at("pierce_filter").boolean();
+}
+
+}  // namespace
+
+Scene parse_scene(std::string_view text, const std::string& file, const std::filesystem::path& dir) {
+  nlohmann::json doc;
+  try {
+    doc = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw Error(file + ": byte " + std::to_string(e.byte) + ": invalid JSON");
+  }
+  const JsonReader root(doc, file);
+  root.expect_keys({"schema", "name", "timestep", "duration", "gravity", "tissues", "instruments", "rigids",
+                    "collision", "response"});
+  Scene scene;
+  root.at("schema").integer(kSceneSchema, kSceneSchema);
+  scene.name = root.string_or("name", std::filesystem::path(file).stem().string());
+  if (root.has("timestep")) scene.timestep = root.at("timestep").number_above(0);
+  if (root.has("duration")) scene.duration = root.at("duration").number_at_least(0);
+  scene.gravity = root.vec3_or("gravity", scene.gravity);
+  scene.settings.collision_period = scene.timestep;
+  if (root.has("collision")) read_collision(root.at("collision"), scene);
+  if (root.has("response")) read_response(root.at("response"), scene);
+  const auto each = [&](const char* key, auto read) {
+    if (!root.has(key)) return;
+    const JsonReader list = root.at(key);
+    for (std::size_t i = 0; i < list.array_size(); ++i) read(list.at(i), i, scene, dir);
+  };
+  each("tissues", read_tissue);
+  each("instruments", read_instrument);
+  each("rigids", read_rigid);
+  return scene;
+}
+
+Scene load_scene(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw Error(file.string() + ": cannot open the scene file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return parse_scene(text.str(), file.string(), file.parent_path());
+}
+
+}  // namespace trocar

@@ -1,0 +1,34 @@
+#pragma once
+/// Scene files (JSON, schema 1, DESIGN.md §5 and docs/scene.md) → a World and its settings.
+#include <filesystem>
+#include <string>
+#include <string_view>
+
+#include "trocar/core/types.h"
+#include "trocar/sim/simulation.h"
+#include "trocar/sim/world.h"
+
+namespace trocar {
+
+/// The current scene schema version.
+inline constexpr int kSceneSchema = 1;
+
+/// A loaded scene: what to simulate and how.
+struct Scene {
+  std::string name;                 ///< "name", default the file's stem
+  Real timestep = 1e-3;             ///< s, "timestep"
+  Real duration = 1.0;              ///< s, "duration"
+  Vec3 gravity = Vec3(0, 0, -9.81); ///< m/s², "gravity"
+  World world;                      ///< tissues, instruments, rigid obstacles (built)
+  SimulationSettings settings;      ///< collision and response
+};
+
+/// Reads and validates a scene file. Every key is checked: an unknown key, a wrong type, a
+/// missing file or a bad value throws trocar::Error "FILE: KEY.PATH: reason". Mesh paths are
+/// relative to the scene file's folder.
+Scene load_scene(const std::filesystem::path& file);
+
+/// The same from text; `file` names it in errors, `dir` resolves relative mesh paths.
+Scene parse_scene(std::string_view text, const std::string& file, const std::filesystem::path& dir);
+
+}  // namespace trocar

@@ -1,0 +1,253 @@
+#include "trocar/sim/simulation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <limits>
+
+#include "trocar/core/timer.h"
+#include "trocar/tissue/forces.h"
+
+namespace trocar {
+namespace {
+
+constexpr Real kUnknown = std::numeric_limits<Real>::quiet_NaN();     ///< no measurement yet
+constexpr Real kOutside = std::numeric_limits<Real>::infinity();      ///< outside the tissue's box
+
+CollisionDetector make_detector(const SimulationSettings& s) {
+  if (s.broad_phase == BroadPhaseKind::kOhc) {
+    OhcSettings ohc;
+    ohc.cell_size = s.cell_size;
+    return CollisionDetector(ohc);
+  }
+  return CollisionDetector(s.broad_phase);
+}
+
+/// FNV-1a over the 8 bytes of one double.
+void hash_real(std::uint64_t& h, Real x) {
+  unsigned char bytes[sizeof(Real)];
+  std::memcpy(bytes, &x, sizeof bytes);
+  for (unsigned char b : bytes) {
+    h ^= b;
+    h *= 0x100000001b3ull;
+  }
+}
+
+void hash_vec(std::uint64_t& h, const Vec3& v) {
+  for (int k = 0; k < 3; ++k) hash_real(h, v[k]);
+}
+
+}  // namespace
+
+Simulation::Simulation(World world, const SimulationSettings& settings)
+    : world_(std::move(world)), settings_(settings), detector_(make_detector(settings)) {
+  const std::size_t ni = world_.instruments.size();
+  const std::size_t nt = world_.tissues.size();
+  for (InstrumentBody& body : world_.instruments) {
+    const MotionSample s = body.motion.sample(0);
+    body.instrument.reset_pose(s.pose);
+    body.instrument.set_jaw(s.jaw);
+  }
+  for (const InstrumentBody& body : world_.instruments)
+    objects_.push_back({ObjectRole::kInstrument, body.instrument.world_positions(), body.instrument.triangles()});
+  for (const auto& tissue : world_.tissues)
+    objects_.push_back({ObjectRole::kTissue, tissue->state.positions, tissue->settings.triangles});
+  for (const RigidBody& rigid : world_.rigids)
+    objects_.push_back({ObjectRole::kRigid, rigid.mesh.positions, rigid.mesh.triangles});
+
+  solvers_.reserve(ni * nt);
+  for (std::size_t i = 0; i < ni; ++i)
+    for (std::size_t t = 0; t < nt; ++t) {
+      solvers_.emplace_back(settings_.response);
+      solvers_.back().reset(world_.tissues[t]->settings.vertex_count());
+    }
+  instrument_metrics_.resize(ni);
+  distances_.resize(nt);
+  if (settings_.measure_penetration)
+    for (std::size_t t = 0; t < nt; ++t)
+      if (world_.tissues[t]->settings.closed)
+        distances_[t] = std::make_unique<MeshDistance>(world_.tissues[t]->state.positions,
+                                                       world_.tissues[t]->settings.triangles);
+  previous_distance_.resize(ni * nt);
+  touched_.resize(ni);
+  for (std::size_t i = 0; i < ni; ++i) {
+    const std::size_t nv = world_.instruments[i].instrument.world_positions().size();
+    touched_[i].assign(nv, 0);
+    for (std::size_t t = 0; t < nt; ++t) previous_distance_[i * nt + t].assign(nv, kUnknown);
+  }
+  contacts_.reserve(1024);
+}
+
+const StepMetrics& Simulation::step(Real dt) {
+  const Timer total;
+  const StageTimings zero{};
+  metrics_ = StepMetrics{};
+  metrics_.timings = zero;
+
+  Timer stage;
+  time_ += dt;
+  for (InstrumentBody& body : world_.instruments) {
+    const MotionSample s = body.motion.sample(time_);
+    body.instrument.move_to(s.pose, dt);
+    body.instrument.set_jaw(s.jaw);
+  }
+  metrics_.timings.motion = stage.microseconds();
+
+  detect();
+
+  stage.restart();
+  respond();
+  metrics_.timings.response = stage.microseconds();
+
+  stage.restart();
+  deform(dt);
+  metrics_.timings.deformation = stage.microseconds();
+
+  stage.restart();
+  measure();
+  metrics_.timings.metrics = stage.microseconds();
+
+  metrics_.time = time_;
+  metrics_.step_index = ++steps_;
+  metrics_.timings.step = total.microseconds();
+  return metrics_;
+}
+
+void Simulation::detect() {
+  // Detect when the detection clock is due (a small tolerance absorbs the rounding of summed
+  // step sizes, so a period equal to k steps detects exactly every k-th step).
+  const bool due = settings_.collision_period <= 0 || time_ >= next_detection_ - 1e-6 * settings_.collision_period;
+  if (!due) {
+    contacts_.clear();
+    return;
+  }
+  if (settings_.collision_period > 0)
+    while (next_detection_ <= time_ + 1e-6 * settings_.collision_period) next_detection_ += settings_.collision_period;
+  detector_.detect(objects_, contacts_);
+  metrics_.detected = true;
+  metrics_.timings.broad_phase = detector_.timings().broad_phase_us;
+  metrics_.timings.narrow_phase = detector_.timings().narrow_phase_us;
+}
+
+void Simulation::respond() {
+  const std::size_t ni = world_.instruments.size();
+  const std::size_t nt = world_.tissues.size();
+  for (auto& tissue : world_.tissues) tissue->loads.clear();
+  for (std::size_t i = 0; i < ni; ++i) {
+    const Instrument& instrument = world_.instruments[i].instrument;
+    InstrumentLoad total;
+    for (std::size_t t = 0; t < nt; ++t) {
+      TissueBody& tissue = *world_.tissues[t];
+      const TissueView view{tissue.state.positions, tissue.state.velocities, tissue.settings.triangles};
+      InstrumentLoad pair;
+      const ResponseStats stats = solver(i, t).apply(contacts_, static_cast<std::uint32_t>(i),
+                                                     static_cast<std::uint32_t>(ni + t), instrument, view,
+                                                     tissue.loads, pair);
+      metrics_.contacts += stats.considered;
+      metrics_.contacts_applied += stats.count(ContactStatus::kApplied);
+      total.raw_force += pair.raw_force;
+      total.raw_torque += pair.raw_torque;
+    }
+    total.clamp(settings_.response.max_force);
+    instrument_metrics_[i] = InstrumentMetrics{total.force, total.torque, total.raw_force};
+  }
+}
+
+void Simulation::deform(Real dt) {
+  const std::size_t ni = world_.instruments.size();
+  for (std::size_t t = 0; t < world_.tissues.size(); ++t) {
+    TissueBody& tissue = *world_.tissues[t];
+    const StepStats stats = tissue.integrator.step(tissue.state, tissue.loads, dt);
+    metrics_.finite = metrics_.finite && stats.finite;
+    for (std::size_t i = 0; i < ni; ++i) {
+      ResponseSolver& s = solver(i, t);
+      s.apply_corrections(tissue.state.positions);
+      s.apply_grasp(world_.instruments[i].instrument, tissue.state.positions, tissue.state.velocities);
+    }
+  }
+}
+
+void Simulation::measure() {
+  ForceTerms elastic;
+  elastic.gravity = false;
+  for (const auto& tissue : world_.tissues) {
+    metrics_.kinetic_energy += kinetic_energy(tissue->settings, tissue->state.velocities);
+    metrics_.elastic_energy += potential_energy(tissue->settings, tissue->state.positions, elastic);
+    for (std::size_t v = 0; v < tissue->state.positions.size(); ++v) {
+      const Vec3& x = tissue->state.positions[v];
+      const Vec3& u = tissue->state.velocities[v];
+      if (!x.allFinite() || !u.allFinite()) metrics_.finite = false;
+      metrics_.max_speed = std::max(metrics_.max_speed, u.norm());
+    }
+  }
+  if (!settings_.measure_penetration || !metrics_.finite) return;
+
+  const std::size_t ni = world_.instruments.size();
+  const std::size_t nt = world_.tissues.size();
+  for (std::size_t t = 0; t < nt; ++t) {
+    if (!distances_[t]) continue;
+    const TissueBody& tissue = *world_.tissues[t];
+    const Aabb tissue_box = Aabb::of_points(tissue.state.positions);
+    bool refitted = false;
+    for (std::size_t i = 0; i < ni; ++i) {
+      const InstrumentBody& body = world_.instruments[i];
+      std::span<const Vec3> points = body.instrument.world_positions();
+      std::vector<Real>& previous = previous_distance_[i * nt + t];
+      const Aabb box = tissue_box.inflated(body.thickness);
+      if (!box.overlaps(body.instrument.world_obb().bounds())) {
+        std::fill(previous.begin(), previous.end(), kOutside);
+        continue;
+      }
+      if (!refitted) {
+        distances_[t]->refit(tissue.state.positions);
+        refitted = true;
+      }
+      // Instrument vertices of this step's contacts with this tissue (contacts are sorted by
+      // object pair, a short run).
+      std::vector<std::uint8_t>& touched = touched_[i];
+      std::fill(touched.begin(), touched.end(), std::uint8_t{0});
+      for (const Contact& c : contacts_) {
+        if (c.kind != ContactKind::kInstrumentTissue || c.object_a != i || c.object_b != ni + t) continue;
+        for (std::uint32_t v : body.instrument.triangles()[c.triangle_a]) touched[v] = 1;
+      }
+      for (std::size_t v = 0; v < points.size(); ++v) {
+        const Real d = box.contains(points[v]) ? distances_[t]->signed_distance(points[v]).distance : kOutside;
+        const Real prev = previous[v];
+        if (d < 0) {
+          ++metrics_.vertices_inside;
+          metrics_.penetration_max = std::max(metrics_.penetration_max, -d);
+          if (prev > 0 && touched[v] == 0) {
+            ++metrics_.tunneling_events;  // (a) crossed the surface with no contact seen
+          } else if (-d > body.thickness && !(-prev > body.thickness)) {
+            ++metrics_.tunneling_events;  // (b) deeper than the instrument is thick
+          }
+        }
+        previous[v] = d;
+      }
+    }
+  }
+}
+
+std::uint64_t Simulation::state_hash() const {
+  std::uint64_t h = 0xcbf29ce484222325ull;
+  for (const auto& tissue : world_.tissues) {
+    for (const Vec3& x : tissue->state.positions) hash_vec(h, x);
+    for (const Vec3& v : tissue->state.velocities) hash_vec(h, v);
+  }
+  for (const InstrumentBody& body : world_.instruments) {
+    const Pose& p = body.instrument.pose();
+    for (int k = 0; k < 4; ++k) hash_real(h, p.rotation.coeffs()[k]);
+    hash_vec(h, p.translation);
+    hash_real(h, body.instrument.jaw());
+  }
+  return h;
+}
+
+std::string hash_hex(std::uint64_t hash) {
+  char text[17];
+  std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(hash));
+  return text;
+}
+
+}  // namespace trocar

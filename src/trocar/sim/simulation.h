@@ -1,0 +1,137 @@
+#pragma once
+/// One step of the simulation, DESIGN.md §1: motion → instrument poses → broad phase → narrow
+/// phase → response → deformation → metrics.
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "trocar/collision/broad_phase.h"
+#include "trocar/collision/detector.h"
+#include "trocar/collision/ohc_broad_phase.h"
+#include "trocar/geometry/signed_distance.h"
+#include "trocar/response/response_solver.h"
+#include "trocar/response/settings.h"
+#include "trocar/sim/world.h"
+
+namespace trocar {
+
+/// How the simulation detects and responds (scene keys `collision` and `response`).
+struct SimulationSettings {
+  BroadPhaseKind broad_phase = BroadPhaseKind::kOhc;  ///< scene collision.broad_phase
+  Real cell_size = 0;             ///< OHC cell edge (m); 0 = auto (scene "auto")
+  /// Time between two detections (s); ≤ 0 = every step. Between detections the step has no
+  /// contacts (a slow detector that the instrument outruns, DESIGN.md §5).
+  Real collision_period = 0;
+  ResponseSettings response;      ///< method, gains, clamp
+  bool measure_penetration = true;  ///< compute penetration and tunneling metrics each step
+};
+
+/// Wall-clock time of each stage of the last step (µs).
+struct StageTimings {
+  double motion = 0;        ///< keyframes → instrument poses
+  double broad_phase = 0;   ///< candidate pairs (0 on steps without detection)
+  double narrow_phase = 0;  ///< exact triangle tests
+  double response = 0;      ///< contacts → loads
+  double deformation = 0;   ///< integrators, corrections, grasps
+  double metrics = 0;       ///< penetration, tunneling, energies
+  double step = 0;          ///< the whole step
+};
+
+/// Force and torque on one instrument in the last step.
+struct InstrumentMetrics {
+  Vec3 force = Vec3::Zero();   ///< clamped force the device renders (N), Σ over tissues
+  Vec3 torque = Vec3::Zero();  ///< torque about the pose origin (N·m), same scale
+  Vec3 raw_force = Vec3::Zero();  ///< unclamped force (N)
+};
+
+/// What the last step did, measured after the response (and after the deformation).
+struct StepMetrics {
+  Real time = 0;                     ///< simulated time at the end of the step (s)
+  std::uint64_t step_index = 0;      ///< steps done so far (1 after the first)
+  bool detected = false;             ///< the detector ran this step
+  std::uint32_t contacts = 0;        ///< instrument–tissue contacts this step (triangle pairs)
+  std::uint32_t contacts_applied = 0;  ///< of those, contacts that produced a force
+  /// Deepest instrument vertex inside any closed tissue (m, ≥ 0), signed distance to the
+  /// deformed surface with angle-weighted pseudonormals.
+  Real penetration_max = 0;
+  /// Instrument vertices inside a tissue this step (summed over instrument–tissue pairs).
+  std::uint32_t vertices_inside = 0;
+  /// Tunneling events this step (see Simulation's class comment).
+  std::uint32_t tunneling_events = 0;
+  Real kinetic_energy = 0;           ///< Σ ½ m v² over tissues (J)
+  Real elastic_energy = 0;           ///< springs, area, volume, home springs (J; gravity excluded)
+  Real max_speed = 0;                ///< fastest tissue vertex (m/s)
+  bool finite = true;                ///< every position and velocity is finite
+  StageTimings timings;              ///< µs per stage
+};
+
+/// Runs a World. Deterministic: the same world and step sizes give bit-identical states on the
+/// same build (one thread, fixed iteration orders, sorted contacts). After the first step,
+/// step() allocates nothing, takes no lock, throws nothing and logs nothing (as long as the
+/// contact count stays within what the detector has already held).
+///
+/// Metrics (DESIGN.md §6). Penetration: for each instrument and each closed tissue whose
+/// bounding box (inflated by the instrument's thickness) holds some instrument vertices, the
+/// tissue's MeshDistance is refitted to the deformed positions once per step and every
+/// instrument vertex inside the box is queried; depth = max(0, −signed distance). Open tissues
+/// (sheets) have no inside and are not measured. Tunneling, per instrument vertex and tissue:
+/// (a) the vertex was outside at the end of the previous step and is inside now, and no contact
+/// of this step involves an instrument triangle incident to it (it crossed the surface unseen:
+/// between detections, or too fast for the discrete test); or (b) its depth first exceeds the
+/// instrument's thickness (counted when it goes from ≤ thickness to > thickness).
+class Simulation {
+ public:
+  /// Takes the world; instruments are placed at their motion's t = 0 pose (at rest).
+  Simulation(World world, const SimulationSettings& settings);
+  Simulation(const Simulation&) = delete;
+  Simulation& operator=(const Simulation&) = delete;
+
+  /// Advances by dt seconds (> 0) and returns the step's metrics.
+  const StepMetrics& step(Real dt);
+
+  World& world() { return world_; }                    ///< the simulated objects
+  const World& world() const { return world_; }        ///< the simulated objects
+  const SimulationSettings& settings() const { return settings_; }  ///< settings
+  Real time() const { return time_; }                  ///< simulated time (s)
+  const StepMetrics& metrics() const { return metrics_; }  ///< last step
+  /// Per-instrument force and torque of the last step (index as world().instruments).
+  std::span<const InstrumentMetrics> instrument_metrics() const { return instrument_metrics_; }
+  /// The contacts of the last detection step (empty on steps without detection).
+  std::span<const Contact> contacts() const { return contacts_; }
+  /// FNV-1a 64-bit hash of the bits of every tissue's positions and velocities and every
+  /// instrument's pose (rotation coefficients, translation) and jaw.
+  std::uint64_t state_hash() const;
+
+ private:
+  void detect();
+  void respond();
+  void deform(Real dt);
+  void measure();
+  ResponseSolver& solver(std::size_t instrument, std::size_t tissue) {
+    return solvers_[instrument * world_.tissues.size() + tissue];
+  }
+
+  World world_;
+  SimulationSettings settings_;
+  CollisionDetector detector_;
+  std::vector<CollisionObject> objects_;     ///< instruments, then tissues, then rigids
+  std::vector<Contact> contacts_;            ///< this step's contacts
+  std::vector<ResponseSolver> solvers_;      ///< per (instrument, tissue) pair
+  std::vector<InstrumentMetrics> instrument_metrics_;
+  std::vector<std::unique_ptr<MeshDistance>> distances_;  ///< per tissue (null when open)
+  /// Per (instrument, tissue) pair: last signed distance of each instrument vertex (m);
+  /// +inf before the first measurement.
+  std::vector<std::vector<Real>> previous_distance_;
+  std::vector<std::vector<std::uint8_t>> touched_;  ///< per instrument: vertex in a contact now
+  StepMetrics metrics_;
+  Real time_ = 0;
+  std::uint64_t steps_ = 0;
+  Real next_detection_ = 0;
+};
+
+/// The hash as 16 lower-case hex digits.
+std::string hash_hex(std::uint64_t hash);
+
+}  // namespace trocar

@@ -1,0 +1,64 @@
+#pragma once
+/// What a simulation simulates: tissues, instruments and rigid obstacles, each with a name.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "trocar/core/types.h"
+#include "trocar/instrument/instrument.h"
+#include "trocar/mesh/tri_mesh.h"
+#include "trocar/sim/motion.h"
+#include "trocar/tissue/integrator.h"
+#include "trocar/tissue/material.h"
+#include "trocar/tissue/settings.h"
+#include "trocar/tissue/state.h"
+
+namespace trocar {
+
+/// A deforming organ (role kTissue). Not movable: the integrator refers to the settings, so
+/// the World keeps each tissue behind a unique_ptr.
+struct TissueBody {
+  std::string name;                  ///< scene name
+  MassSpringSettings settings;       ///< immutable model (metres, kg)
+  MassSpringState state;             ///< positions (m) and velocities (m/s)
+  MassSpringIntegrator integrator;   ///< steps `state`
+  TissueLoads loads;                 ///< external forces of the current step (N)
+
+  /// Builds the model from a mesh already placed in the world (metres).
+  TissueBody(std::string body_name, const TriMesh& world_mesh, const MassSpringMaterial& material,
+             const FixedSelection& fixed, const Vec3& gravity, IntegratorKind kind);
+  TissueBody(const TissueBody&) = delete;
+  TissueBody& operator=(const TissueBody&) = delete;
+};
+
+/// A rigid instrument (role kInstrument) moved by keyframes.
+struct InstrumentBody {
+  std::string name;          ///< scene name
+  Instrument instrument;     ///< mesh in its local frame (m), pose, OBB, top vertex, jaws
+  KeyframeMotion motion;     ///< scripted pose and jaw over time
+  /// Thickness used by the tunneling metric (m): twice the smallest half-extent of the OBB.
+  Real thickness = 0;
+};
+
+/// Static geometry (role kRigid): bones, a table, ports. Only detected, never moved.
+struct RigidBody {
+  std::string name;   ///< scene name
+  TriMesh mesh;       ///< world positions (m)
+};
+
+/// Everything in one scene. Tissues are heap-held so that their addresses stay fixed.
+struct World {
+  std::vector<std::unique_ptr<TissueBody>> tissues;  ///< organs
+  std::vector<InstrumentBody> instruments;           ///< tools
+  std::vector<RigidBody> rigids;                      ///< static obstacles
+
+  /// Adds a tissue and returns it.
+  TissueBody& add_tissue(std::string name, const TriMesh& world_mesh, const MassSpringMaterial& material,
+                         const FixedSelection& fixed, const Vec3& gravity, IntegratorKind kind);
+  /// Adds an instrument (mesh in its local frame, metres); the thickness comes from its OBB.
+  InstrumentBody& add_instrument(std::string name, Instrument instrument, KeyframeMotion motion);
+  /// Adds a rigid obstacle (mesh in world, metres).
+  RigidBody& add_rigid(std::string name, TriMesh world_mesh);
+};
+
+}  // namespace trocar
