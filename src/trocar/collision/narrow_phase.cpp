@@ -1,6 +1,7 @@
 #include "trocar/collision/narrow_phase.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 #include "trocar/geometry/triangle_triangle.h"
@@ -8,27 +9,99 @@
 namespace trocar {
 namespace {
 
-// Cheap, conservative rejection before the exact test: all of p0..p2 strictly on one side of
-// the plane of q0q1q2, by more than 1e-9 of the pair's size L (intersect_triangles counts
-// only distances ≤ 1e-12·L as touching, so nothing it accepts is rejected here). Works with the
-// unnormalised normal n (no square root): d_i = n·(p_i − q0) and the threshold 1e-9·L·|n| are
-// compared squared. Skipped (returns false) for slivers, whose plane is ill-conditioned.
-bool separated_by_plane(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& q0, const Vec3& q1,
-                        const Vec3& q2, Real size) {
+// Cheap, conservative rejections before the exact test (intersect_triangles). Each may only
+// reject pairs that intersect_triangles rejects too, so they change nothing but the time; the
+// margins below are orders of magnitude wider than the test's tolerance (kTriTriTolerance = 1e-12
+// of the pair's size L) and than its rounding errors.
+
+// A triangle's plane with the unnormalised normal n = (q1 − q0) × (q2 − q0) (no square root)
+// and the signed distances (× |n|) of the other triangle's corners p0..p2 to it.
+struct PlaneDistances {
+  Vec3 n;
+  Real n2 = 0;        // |n|²
+  Real d[3] = {0, 0, 0};
+  bool well_shaped = false;  // not a sliver: |n|² > 1e-6·(longest edge)⁴
+};
+
+PlaneDistances plane_distances(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& q0, const Vec3& q1,
+                               const Vec3& q2) {
+  PlaneDistances r;
   const Vec3 e1 = q1 - q0;
   const Vec3 e2 = q2 - q0;
-  const Vec3 n = e1.cross(e2);
-  const Real n2 = n.squaredNorm();
+  r.n = e1.cross(e2);
+  r.n2 = r.n.squaredNorm();
   const Real longest2 = std::max({e1.squaredNorm(), e2.squaredNorm(), (q2 - q1).squaredNorm()});
-  if (!(n2 > 1e-6 * longest2 * longest2)) return false;
-  const Real d0 = n.dot(p0 - q0);
-  const Real d1 = n.dot(p1 - q0);
-  const Real d2 = n.dot(p2 - q0);
-  const Real threshold2 = 1e-18 * size * size * n2;
-  const bool all_above = d0 > 0 && d1 > 0 && d2 > 0;
-  const bool all_below = d0 < 0 && d1 < 0 && d2 < 0;
+  r.well_shaped = r.n2 > 1e-6 * longest2 * longest2;
+  r.d[0] = r.n.dot(p0 - q0);
+  r.d[1] = r.n.dot(p1 - q0);
+  r.d[2] = r.n.dot(p2 - q0);
+  return r;
+}
+
+// Plane rejection: all of p0..p2 strictly on one side of the plane of q0q1q2, by more than
+// 1e-9·L (compared squared, d_i² > (1e-9·L)²·|n|²). Skipped (false) for slivers, whose plane is
+// ill-conditioned.
+bool separated_by_plane(const PlaneDistances& pd, Real size) {
+  if (!pd.well_shaped) return false;
+  const Real* d = pd.d;
+  const bool all_above = d[0] > 0 && d[1] > 0 && d[2] > 0;
+  const bool all_below = d[0] < 0 && d[1] < 0 && d[2] < 0;
   if (!all_above && !all_below) return false;
-  return d0 * d0 > threshold2 && d1 * d1 > threshold2 && d2 * d2 > threshold2;
+  const Real threshold2 = 1e-18 * size * size * pd.n2;
+  return d[0] * d[0] > threshold2 && d[1] * d[1] > threshold2 && d[2] * d[2] > threshold2;
+}
+
+// Extends [lo, hi] by the projections on `dir` of the part of triangle p0p1p2 (corners relative
+// to a common origin) that lies within the slab |d| ≤ tau of the other plane, d being the
+// corners' signed distances (× |n|): per edge, the sub-segment inside the slab.
+void slab_interval(const Vec3 (&p)[3], const Real (&d)[3], Real tau, const Vec3& dir, Real& lo, Real& hi) {
+  Real proj[3];
+  for (int i = 0; i < 3; ++i) proj[i] = dir.dot(p[i]);
+  for (int i = 0; i < 3; ++i) {
+    const int j = i == 2 ? 0 : i + 1;
+    const Real di = d[i];
+    const Real dj = d[j];
+    if ((di > tau && dj > tau) || (di < -tau && dj < -tau)) continue;  // edge outside the slab
+    Real l0 = 0;
+    Real l1 = 1;
+    const Real dd = dj - di;
+    if (std::abs(dd) > tau) {
+      // d(λ) = di + λ·dd ∈ [−tau, tau] for λ between these two values.
+      const Real a = (-tau - di) / dd;
+      const Real b = (tau - di) / dd;
+      l0 = std::max(l0, std::min(a, b));
+      l1 = std::min(l1, std::max(a, b));
+      if (l0 > l1) {  // only by rounding (the edge reaches the slab): keep the nearer end
+        l0 = l1 = std::clamp(0.5 * (l0 + l1), Real{0}, Real{1});
+      }
+    }
+    // Nearly parallel to the plane (|dd| ≤ tau): the whole edge is within 2·tau, keep it all.
+    const Real x0 = proj[i] + l0 * (proj[j] - proj[i]);
+    const Real x1 = proj[i] + l1 * (proj[j] - proj[i]);
+    lo = std::min({lo, x0, x1});
+    hi = std::max({hi, x0, x1});
+  }
+}
+
+// Interval rejection (Möller's test, made conservative): when the planes cross at a clear angle
+// (sin θ ≥ 0.01) and neither triangle is a sliver, the parts of A and B near the other's plane
+// (within 1e-9·L, far more than the exact test's snapping and rounding) project on the
+// intersection line direction nA × nB to two intervals; the pair is rejected when they are apart
+// by more than 1e-7·L. Every point the exact test puts on a trace lies in those parts, and its
+// ordering direction differs from the line by far less than that margin allows.
+bool separated_on_line(const Vec3 (&a)[3], const Vec3 (&b)[3], const PlaneDistances& a_to_b,
+                       const PlaneDistances& b_to_a, Real size) {
+  if (!a_to_b.well_shaped || !b_to_a.well_shaped) return false;
+  const Vec3 dir = b_to_a.n.cross(a_to_b.n);  // nA × nB
+  const Real dir2 = dir.squaredNorm();
+  if (!(dir2 >= 1e-4 * a_to_b.n2 * b_to_a.n2)) return false;  // sin²θ < 1e-4
+  constexpr Real kInf = std::numeric_limits<Real>::infinity();
+  Real a_lo = kInf, a_hi = -kInf, b_lo = kInf, b_hi = -kInf;
+  slab_interval(a, a_to_b.d, 1e-9 * size * std::sqrt(a_to_b.n2), dir, a_lo, a_hi);
+  slab_interval(b, b_to_a.d, 1e-9 * size * std::sqrt(b_to_a.n2), dir, b_lo, b_hi);
+  if (!(a_lo <= a_hi) || !(b_lo <= b_hi)) return false;  // (not expected: both straddle)
+  const Real gap = std::max(a_lo, b_lo) - std::min(a_hi, b_hi);  // in units of |dir|
+  return gap > 0 && gap * gap > 1e-14 * size * size * dir2;
 }
 
 Real pair_size(const Vec3& a0, const Vec3& a1, const Vec3& a2, const Vec3& b0, const Vec3& b1, const Vec3& b2) {
@@ -55,7 +128,14 @@ void narrow_phase(std::span<const CollisionObject> objects, std::span<const Cand
     const Vec3& b2 = ob.positions[tb[2]];
     const Real size = pair_size(a0, a1, a2, b0, b1, b2);
     if (!(size < std::numeric_limits<Real>::infinity())) continue;  // NaN or infinite input
-    if (separated_by_plane(a0, a1, a2, b0, b1, b2, size) || separated_by_plane(b0, b1, b2, a0, a1, a2, size)) continue;
+    // Relative to a0, so that the rejections' rounding follows the pair's size, not its position.
+    const Vec3 ra[3] = {Vec3::Zero(), a1 - a0, a2 - a0};
+    const Vec3 rb[3] = {b0 - a0, b1 - a0, b2 - a0};
+    const PlaneDistances a_to_b = plane_distances(ra[0], ra[1], ra[2], rb[0], rb[1], rb[2]);
+    if (separated_by_plane(a_to_b, size)) continue;
+    const PlaneDistances b_to_a = plane_distances(rb[0], rb[1], rb[2], ra[0], ra[1], ra[2]);
+    if (separated_by_plane(b_to_a, size)) continue;
+    if (separated_on_line(ra, rb, a_to_b, b_to_a, size)) continue;
     const TriTriResult r = intersect_triangles(a0, a1, a2, b0, b1, b2);
     if (!r.intersects) continue;
     Contact c;

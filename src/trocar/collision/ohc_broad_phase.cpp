@@ -8,6 +8,9 @@
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#endif
 
 namespace trocar {
 namespace {
@@ -63,7 +66,11 @@ void OhcBroadPhase::build_clusters(ObjectClusters& c, const CollisionObject& obj
   }
   std::sort(keyed.begin(), keyed.end());
   c.order.resize(n);
-  for (std::uint32_t t = 0; t < n; ++t) c.order[t] = keyed[t].second;
+  c.ordered.resize(n);
+  for (std::uint32_t t = 0; t < n; ++t) {
+    c.order[t] = keyed[t].second;
+    c.ordered[t] = object.triangles[keyed[t].second];
+  }
   const std::uint32_t clusters = (n + kClusterTriangles - 1) / kClusterTriangles;
   c.vertex_start.assign(clusters + 1, 0);
   c.vertices.clear();
@@ -81,13 +88,81 @@ void OhcBroadPhase::build_clusters(ObjectClusters& c, const CollisionObject& obj
   c.boxes.resize(clusters);
 }
 
+#if defined(__x86_64__) && defined(__GNUC__)
+#define TROCAR_OHC_AVX2 1
+// The refit with 256-bit registers: one masked load brings a vertex's x, y, z (the fourth lane
+// is masked, so nothing past the positions array is read), one min and one max per vertex; two
+// accumulators break the latency chain. Compiled for AVX2 whatever the build flags and used
+// only when the CPU has it (checked once). min/max of doubles are exact, so the boxes are
+// bit-identical to the SSE2 / scalar paths (a NaN coordinate propagates the same way: the
+// vertex is the second operand).
+__attribute__((target("avx2"))) static void refit_boxes_avx2(const Vec3* p, const std::uint32_t* ids,
+                                                             const std::uint32_t* vertex_start,
+                                                             std::size_t clusters, Aabb* boxes, Real* olo,
+                                                             Real* ohi) {
+  constexpr Real kInf = std::numeric_limits<Real>::infinity();
+  const __m256i mask = _mm256_setr_epi64x(-1, -1, -1, 0);
+  __m256d obj_lo = _mm256_set1_pd(kInf);
+  __m256d obj_hi = _mm256_set1_pd(-kInf);
+  for (std::size_t k = 0; k < clusters; ++k) {
+    const std::uint32_t begin = vertex_start[k];
+    const std::uint32_t end = vertex_start[k + 1];
+    __m256d lo0 = _mm256_set1_pd(kInf), lo1 = lo0, hi0 = _mm256_set1_pd(-kInf), hi1 = hi0;
+    std::uint32_t i = begin;
+    for (; i + 1 < end; i += 2) {
+      const __m256d x0 = _mm256_maskload_pd(p[ids[i]].data(), mask);
+      const __m256d x1 = _mm256_maskload_pd(p[ids[i + 1]].data(), mask);
+      lo0 = _mm256_min_pd(lo0, x0);
+      hi0 = _mm256_max_pd(hi0, x0);
+      lo1 = _mm256_min_pd(lo1, x1);
+      hi1 = _mm256_max_pd(hi1, x1);
+    }
+    if (i < end) {
+      const __m256d x0 = _mm256_maskload_pd(p[ids[i]].data(), mask);
+      lo0 = _mm256_min_pd(lo0, x0);
+      hi0 = _mm256_max_pd(hi0, x0);
+    }
+    const __m256d lo = _mm256_min_pd(lo0, lo1);
+    const __m256d hi = _mm256_max_pd(hi0, hi1);
+    alignas(32) Real l[4];
+    alignas(32) Real h[4];
+    _mm256_store_pd(l, lo);
+    _mm256_store_pd(h, hi);
+    boxes[k].min = Vec3(l[0], l[1], l[2]);
+    boxes[k].max = Vec3(h[0], h[1], h[2]);
+    obj_lo = _mm256_min_pd(lo, obj_lo);  // = std::min(obj_lo, lo), NaN included
+    obj_hi = _mm256_max_pd(hi, obj_hi);
+  }
+  alignas(32) Real l[4];
+  alignas(32) Real h[4];
+  _mm256_store_pd(l, obj_lo);
+  _mm256_store_pd(h, obj_hi);
+  for (int a = 0; a < 3; ++a) {
+    olo[a] = l[a];
+    ohi[a] = h[a];
+  }
+}
+
+static bool cpu_has_avx2() {
+  static const bool has = __builtin_cpu_supports("avx2");
+  return has;
+}
+#endif
+
 Aabb OhcBroadPhase::refit_clusters(ObjectClusters& c, const CollisionObject& object) {
   const Vec3* p = object.positions.data();
   const std::uint32_t* ids = c.vertices.data();
   constexpr Real kInf = std::numeric_limits<Real>::infinity();
   Real olo[3] = {kInf, kInf, kInf};
   Real ohi[3] = {-kInf, -kInf, -kInf};
-  for (std::size_t k = 0; k + 1 < c.vertex_start.size(); ++k) {
+  std::size_t first_sse_cluster = 0;  // all clusters when the AVX2 path ran
+#if defined(TROCAR_OHC_AVX2)
+  if (cpu_has_avx2()) {
+    refit_boxes_avx2(p, ids, c.vertex_start.data(), c.boxes.size(), c.boxes.data(), olo, ohi);
+    first_sse_cluster = c.boxes.size();
+  }
+#endif
+  for (std::size_t k = first_sse_cluster; k + 1 < c.vertex_start.size(); ++k) {
     const std::uint32_t begin = c.vertex_start[k];
     const std::uint32_t end = c.vertex_start[k + 1];
     Real lo[3];
@@ -209,20 +284,30 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
     const CollisionObject& object = objects[i];
     const ObjectClusters& c = clusters_[i];
     const Vec3* p = object.positions.data();
-    const Triangle* tris = object.triangles.data();
     // A triangle's margin is at most kBoxMargin·(object size): test the raw cluster boxes
     // against the region grown by that much, then clip the inflated triangle boxes.
     const Aabb grown = region.inflated(kBoxMargin * boxes_[i].size().maxCoeff());
     const auto triangle_count = static_cast<std::uint32_t>(object.triangles.size());
+    const Real g_lo[3] = {grown.min.x(), grown.min.y(), grown.min.z()};
+    const Real g_hi[3] = {grown.max.x(), grown.max.y(), grown.max.z()};
     for (std::uint32_t k = 0; k < c.boxes.size(); ++k) {
       if (!c.boxes[k].overlaps(grown)) continue;
       const std::uint32_t end = std::min(triangle_count, (k + 1) * kClusterTriangles);
       for (std::uint32_t o = k * kClusterTriangles; o < end; ++o) {
-        const std::uint32_t t = c.order[o];
-        const Triangle& tri = tris[t];
+        const Triangle& tri = c.ordered[o];
         const Vec3& a = p[tri[0]];
         const Vec3& b = p[tri[1]];
         const Vec3& cc = p[tri[2]];
+        // Quick rejection on the raw (uninflated) box against the grown region, which holds
+        // every triangle margin: most triangles of an opened cluster stop here.
+        bool outside = false;
+        for (int axis = 0; axis < 3; ++axis) {
+          const Real lo = std::min(std::min(a[axis], b[axis]), cc[axis]);
+          const Real hi = std::max(std::max(a[axis], b[axis]), cc[axis]);
+          outside |= hi < g_lo[axis] || lo > g_hi[axis];
+        }
+        if (outside) continue;
+        const std::uint32_t t = c.order[o];
         const Aabb box = triangle_box(a, b, cc).intersection(region);
         if (box.is_empty()) continue;
         Primitive prim;

@@ -110,6 +110,7 @@ class OhcBroadPhase final : public BroadPhase {
     std::size_t triangle_count = 0;           ///< identity: triangle span size
     std::size_t vertex_count = 0;             ///< identity: vertex count
     std::vector<std::uint32_t> order;         ///< triangle ids, cluster after cluster
+    std::vector<Triangle> ordered;            ///< the triangles' vertex ids in that order
     std::vector<std::uint32_t> vertex_start;  ///< per cluster, first entry in vertices (+ end)
     std::vector<std::uint32_t> vertices;      ///< each cluster's distinct vertex ids, ascending
     std::vector<Aabb> boxes;                  ///< per cluster: box of its vertices this frame
