@@ -10,6 +10,7 @@
 // Run with --benchmark_repetitions=5 --benchmark_report_aggregates_only=true for medians.
 #include <benchmark/benchmark.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -18,7 +19,6 @@
 
 #include "collision_peers.h"
 #include "trocar/collision/detector.h"
-#include "trocar/core/error.h"
 #include "trocar/mesh/generate.h"
 #include "trocar/mesh/io/mesh_io.h"
 
@@ -26,7 +26,12 @@ namespace {
 
 using namespace trocar;
 
-const std::filesystem::path kMeshes = TROCAR_SHARED_MESHES;
+/// The shared meshes: the TROCAR_SHARED_MESHES environment variable when set (a copy of the
+/// folder elsewhere), else the path compiled in.
+const std::filesystem::path kMeshes = [] {
+  const char* env = std::getenv("TROCAR_SHARED_MESHES");
+  return std::filesystem::path(env != nullptr && *env != 0 ? env : TROCAR_SHARED_MESHES);
+}();
 
 enum class SceneId { kDuodenum, kAbdominal, kSheet720k };
 
