@@ -122,8 +122,10 @@ void Simulation::detect() {
     contacts_.clear();
     return;
   }
-  if (settings_.collision_period > 0)
+  if (settings_.collision_period > 0) {
+    if (next_detection_ < 0) next_detection_ = time_;  // the first step detects; then every period
     while (next_detection_ <= time_ + 1e-6 * settings_.collision_period) next_detection_ += settings_.collision_period;
+  }
   detector_.detect(objects_, contacts_);
   metrics_.detected = true;
   metrics_.timings.broad_phase = detector_.timings().broad_phase_us;

@@ -128,7 +128,7 @@ class Simulation {
   StepMetrics metrics_;
   Real time_ = 0;
   std::uint64_t steps_ = 0;
-  Real next_detection_ = 0;
+  Real next_detection_ = -1;  ///< time of the next detection (s); < 0 before the first
 };
 
 /// The hash as 16 lower-case hex digits.
