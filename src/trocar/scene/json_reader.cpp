@@ -1,6 +1,7 @@
 #include "trocar/scene/json_reader.h"
 
 #include <cmath>
+#include <cstdio>
 
 #include "trocar/core/error.h"
 
@@ -18,8 +19,9 @@ const char* type_name(const nlohmann::json& v) {
 }
 
 std::string number_text(Real x) {
-  std::string s = nlohmann::json(x).dump();
-  return s;
+  char text[32];
+  std::snprintf(text, sizeof text, "%.10g", x);
+  return text;
 }
 
 }  // namespace

@@ -1,0 +1,119 @@
+// Scene files: a valid scene loads into a World; each kind of error names the file and key path.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "trocar/core/error.h"
+#include "trocar/scene/scene.h"
+
+namespace trocar {
+namespace {
+
+/// A minimal valid scene with one generated tissue and one generated instrument; `tissue_extra`
+/// and `top_extra` are spliced into the tissue object and the root object.
+std::string scene_text(const std::string& tissue_extra = "", const std::string& top_extra = "") {
+  return R"({"schema": 1, "timestep": 0.001,)" + top_extra + R"(
+    "tissues": [{"name": "ball", "mesh": {"generate": "icosphere", "radius": 0.03, "subdivisions": 2},
+                 "material": {"preset": "liver", "k_area": 10})" + tissue_extra + R"(}],
+    "instruments": [{"mesh": {"generate": "cylinder", "radius": 0.002, "length": 0.05},
+                     "motion": {"keyframes": [{"t": 0, "position": [0, 0, 0.05]}]}}]})";
+}
+
+/// The message of the error parse_scene throws for `text` ("" when none).
+std::string error_of(const std::string& text, const std::filesystem::path& dir = ".") {
+  try {
+    parse_scene(text, "scene.json", dir);
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Scene, ValidSceneBuildsTheWorld) {
+  const Scene scene = parse_scene(scene_text(R"(, "fixed": {"below_plane": {"point": [0,0,-0.02], "normal": [0,0,1]}})",
+                                             R"( "name": "t", "collision": {"broad_phase": "bvh", "cell_size": 0.004, "period": 0.002},
+                                                 "response": {"method": "project", "stiffness": 100},)"),
+                                  "scene.json", ".");
+  EXPECT_EQ(scene.name, "t");
+  ASSERT_EQ(scene.world.tissues.size(), 1u);
+  EXPECT_EQ(scene.world.tissues[0]->name, "ball");
+  EXPECT_EQ(scene.world.tissues[0]->settings.vertex_count(), 162u);
+  EXPECT_EQ(scene.world.tissues[0]->settings.k_area, 10.0);  // preset overridden
+  ASSERT_EQ(scene.world.instruments.size(), 1u);
+  EXPECT_EQ(scene.world.instruments[0].name, "instrument0");
+  EXPECT_NEAR(scene.world.instruments[0].thickness, 0.004, 1e-3);
+  EXPECT_EQ(scene.settings.broad_phase, BroadPhaseKind::kBvh);
+  EXPECT_EQ(scene.settings.cell_size, 0.004);
+  EXPECT_EQ(scene.settings.collision_period, 0.002);
+  EXPECT_EQ(scene.settings.response.method, ResponseMethod::kProject);
+  EXPECT_EQ(scene.settings.response.stiffness, 100.0);
+}
+
+TEST(Scene, UnknownKeyNamesItsPath) {
+  EXPECT_EQ(error_of(scene_text(R"(, "colour": "red")")).rfind("scene.json: tissues[0].colour: unknown key", 0), 0u)
+      << error_of(scene_text(R"(, "colour": "red")"));
+}
+
+TEST(Scene, WrongTypeNamesItsPath) {
+  EXPECT_EQ(error_of(scene_text("", R"( "timestep": "fast",)")), "scene.json: timestep: must be a number, not a string");
+}
+
+TEST(Scene, MissingFileNamesTheKeyAndThePath) {
+  const std::string text = R"({"schema": 1, "tissues": [{"mesh": "no/such.obj"}]})";
+  const std::string e = error_of(text, "/tmp");
+  EXPECT_EQ(e.rfind("scene.json: tissues[0].mesh: file not found: /tmp/no/such.obj", 0), 0u) << e;
+}
+
+TEST(Scene, BadValueNamesItsPath) {
+  const std::string text = R"({"schema": 1, "tissues": [{"mesh": {"generate": "icosphere", "radius": 0.03},
+                                "material": {"k_area": -1}}]})";
+  EXPECT_EQ(error_of(text), "scene.json: tissues[0].material.k_area: must be >= 0");
+}
+
+TEST(Scene, UnknownPresetIntegratorMethodGeneratorAndBroadPhase) {
+  EXPECT_NE(error_of(R"({"schema": 1, "tissues": [{"mesh": {"generate": "icosphere", "radius": 0.03},
+                        "material": {"preset": "granite"}}]})").find("scene.json: tissues[0].material.preset: "),
+            std::string::npos);
+  EXPECT_NE(error_of(R"({"schema": 1, "tissues": [{"mesh": {"generate": "icosphere", "radius": 0.03},
+                        "integrator": "rk4"}]})").find("scene.json: tissues[0].integrator: "),
+            std::string::npos);
+  EXPECT_EQ(error_of(R"({"schema": 1, "response": {"method": "magic"}})"),
+            "scene.json: response.method: unknown method \"magic\" (known: obb, primitive, normal, project)");
+  EXPECT_EQ(error_of(R"({"schema": 1, "collision": {"broad_phase": "grid"}})"),
+            "scene.json: collision.broad_phase: unknown broad phase \"grid\" (known: ohc, bvh, brute)");
+  EXPECT_EQ(error_of(R"({"schema": 1, "tissues": [{"mesh": {"generate": "torus"}}]})")
+                .rfind("scene.json: tissues[0].mesh.generate: unknown generator \"torus\"", 0),
+            0u);
+  EXPECT_EQ(error_of(R"({"schema": 1, "tissues": [{"mesh": {"generate": "icosphere", "radius": 0}}]})"),
+            "scene.json: tissues[0].mesh.radius: must be > 0");
+}
+
+TEST(Scene, SchemaKeyframesAndTopVertexAreChecked) {
+  EXPECT_EQ(error_of(R"({"tissues": []})"), "scene.json: schema: missing (required)");
+  EXPECT_EQ(error_of(R"({"schema": 2})"), "scene.json: schema: must be in [1, 1], not 2");
+  EXPECT_EQ(error_of(R"({"schema": 1, "instruments": [{"mesh": {"generate": "box", "size": [0.01, 0.01, 0.1]},
+      "motion": {"keyframes": [{"t": 1, "position": [0,0,0]}, {"t": 1, "position": [0,0,1]}]}}]})"),
+            "scene.json: instruments[0].motion.keyframes[1].t: must be greater than the previous keyframe's t");
+  EXPECT_EQ(error_of(R"({"schema": 1, "instruments": [{"mesh": {"generate": "box", "size": [0.01, 0.01, 0.1]},
+      "top_vertex": 8}]})"),
+            "scene.json: instruments[0].top_vertex: must be in [0, 7], not 8");
+  EXPECT_EQ(error_of("{\"schema\": 1,"), "scene.json: byte 14: invalid JSON");
+}
+
+TEST(Scene, MeshPathsAreRelativeToTheSceneFile) {
+  const auto dir = std::filesystem::temp_directory_path() / "trocar_scene_test_relative";
+  std::filesystem::create_directories(dir / "meshes");
+  std::ofstream(dir / "meshes" / "tri.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\n";
+  std::ofstream(dir / "s.json") << R"({"schema": 1, "rigids": [{"name": "table", "mesh": "meshes/tri.obj", "scale": 0.5,
+                                     "translate": [0, 0, 1]}]})";
+  const Scene scene = load_scene(dir / "s.json");
+  ASSERT_EQ(scene.world.rigids.size(), 1u);
+  EXPECT_EQ(scene.name, "s");
+  EXPECT_EQ(scene.world.rigids[0].mesh.positions[1], Vec3(0.5, 0, 1));
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace trocar
