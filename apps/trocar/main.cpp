@@ -4,6 +4,7 @@
 
 #include "bench_command.h"
 #include "mesh_command.h"
+#include "run_command.h"
 #include "trocar/core/error.h"
 
 int main(int argc, char** argv) {
@@ -12,6 +13,7 @@ int main(int argc, char** argv) {
   int exit_code = 0;
   trocar::cli::add_mesh_command(app, exit_code);
   trocar::cli::add_bench_command(app, exit_code);
+  trocar::cli::add_run_command(app, exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

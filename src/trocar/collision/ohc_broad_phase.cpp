@@ -21,8 +21,13 @@ namespace {
 constexpr Real kCellClamp = 1073741824.0;
 
 std::int32_t cell_of(Real x, Real inv_h) {
-  const Real c = std::floor(x * inv_h);
-  return static_cast<std::int32_t>(std::clamp(c, -kCellClamp, kCellClamp));
+  // floor(clamp(v)) = clamp(floor(v)) as the bounds are integers. The floor is a truncation
+  // stepped down for negative non-integers (exact for |v| ≤ 2^30; no libm call, which the
+  // baseline x86-64 ISA would need). NaN gives INT32_MIN, as the cast in a plain floor would.
+  const Real v = std::clamp(x * inv_h, -kCellClamp, kCellClamp);
+  if (!(v == v)) return std::numeric_limits<std::int32_t>::min();
+  const auto t = static_cast<std::int32_t>(v);
+  return static_cast<Real>(t) > v ? t - 1 : t;
 }
 
 // Spreads the low 21 bits of x to every third bit (Morton code helper).
@@ -389,6 +394,7 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
   }
   start[table] = running;
   entries_.resize(entry_count);
+  if (cell_starts_.size() < entries_.size()) cell_starts_.resize(entries_.size());  // a cell's worth
   Entry* entries = entries_.data();
   for (std::uint32_t k = 0; k < primitives_.size(); ++k) {
     const Primitive& prim = primitives_[k];
@@ -406,10 +412,10 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
     if (a.z != b.z) return a.z < b.z;
     return a.primitive < b.primitive;
   };
-  for (std::size_t s = 0; s < table; ++s) {
-    const std::uint32_t b = start[s];
-    const std::uint32_t e = start[s + 1];
-    if (e == b) continue;
+  // The entries lie slot after slot in ascending slot order, so walking them visits exactly the
+  // non-empty slots in the order of a scan over the table (most slots are empty).
+  for (std::uint32_t b = 0, e = 0; b < entry_count; b = e) {
+    e = start[(cell_hash(entries[b].x, entries[b].y, entries[b].z) & mask) + 1];
     if (e - b == 1) {
       ++stats_.cells_touched;
       ++stats_.solo_cells;
@@ -453,6 +459,16 @@ void OhcBroadPhase::emit_cell_pairs(std::span<const Entry> cell, std::span<const
   const std::int32_t cx = cell[0].x;
   const std::int32_t cy = cell[0].y;
   const std::int32_t cz = cell[0].z;
+  // Dedup rule: emit a pair only from the cell holding the minimum corner of the boxes' overlap,
+  // i.e. per axis the larger of the two first cells. Both first cells are ≤ this cell's, so the
+  // rule holds iff on every axis at least one of the two starts here: with bit k set when a
+  // primitive's first cell on axis k is this cell's, (starts_a | starts_b) == 7. Computed once
+  // per entry, it rejects most pairs before their boxes are read.
+  std::uint8_t* starts = cell_starts_.data();
+  for (std::size_t i = 0; i < cell.size(); ++i) {
+    const Primitive& a = primitives_[cell[i].primitive];
+    starts[i] = static_cast<std::uint8_t>((a.lo[0] == cx ? 1 : 0) | (a.lo[1] == cy ? 2 : 0) | (a.lo[2] == cz ? 4 : 0));
+  }
   // The cell is sorted by primitive and so by object: pair each primitive only with those of
   // later objects (skipping its own object's group).
   std::size_t group_end = 0;
@@ -462,13 +478,10 @@ void OhcBroadPhase::emit_cell_pairs(std::span<const Entry> cell, std::span<const
       group_end = i + 1;
       while (group_end < cell.size() && primitives_[cell[group_end].primitive].object == a.object) ++group_end;
     }
+    const unsigned starts_a = starts[i];
     for (std::size_t j = group_end; j < cell.size(); ++j) {
+      if ((starts_a | starts[j]) != 7u) continue;
       const Primitive& b = primitives_[cell[j].primitive];
-      // Emit only from the cell holding the minimum corner of the boxes' overlap: per axis the
-      // larger of the two first cells (floor is monotone, so this is the cell of max(min_a, min_b)).
-      if (std::max(a.lo[0], b.lo[0]) != cx || std::max(a.lo[1], b.lo[1]) != cy ||
-          std::max(a.lo[2], b.lo[2]) != cz)
-        continue;
       if (a.min[0] > b.max[0] || b.min[0] > a.max[0] || a.min[1] > b.max[1] || b.min[1] > a.max[1] ||
           a.min[2] > b.max[2] || b.min[2] > a.max[2])
         continue;

@@ -130,6 +130,7 @@ class OhcBroadPhase final : public BroadPhase {
   std::vector<Primitive> primitives_;
   std::vector<std::uint32_t> slot_start_;  // table_size + 1 (counting sort)
   std::vector<Entry> entries_;
+  std::vector<std::uint8_t> cell_starts_;  // emit_cell_pairs scratch (≥ entries_.size())
 };
 
 }  // namespace trocar
