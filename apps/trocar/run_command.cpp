@@ -1,0 +1,219 @@
+#include "run_command.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "trocar/core/error.h"
+#include "trocar/scene/scene.h"
+#include "trocar/sim/simulation.h"
+
+namespace trocar::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// Vertex speed above which a tissue is declared unstable (m/s): no tissue point in a
+/// laparoscopic scene moves at 100 m/s; an exploding integrator passes it within a few steps.
+constexpr double kUnstableSpeed = 100.0;
+
+struct Options {
+  std::string scene;
+  double duration = -1;
+  std::string method;
+  std::string report;
+  std::string record;
+  bool quiet = false;
+};
+
+/// median, p99 and max of samples (0 for none).
+nlohmann::json summary(std::vector<double> v) {
+  if (v.empty()) return {{"median", 0.0}, {"p99", 0.0}, {"max", 0.0}};
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  const auto p99 = static_cast<std::size_t>(std::ceil(0.99 * static_cast<double>(n))) - 1;
+  return {{"median", n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2])}, {"p99", v[p99]}, {"max", v.back()}};
+}
+
+/// Writes `text` to `path` through a temporary file in the same folder and a rename.
+void write_atomically(const fs::path& path, const std::string& text) {
+  const fs::path tmp = path.string() + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary);
+    if (!out) throw Error(path.string() + ": cannot write");
+    out << text;
+    if (!out) throw Error(path.string() + ": write failed");
+  }
+  fs::rename(tmp, path);
+}
+
+class Progress {
+ public:
+  Progress(bool quiet, std::size_t total) : quiet_(quiet), total_(total), tty_(isatty(fileno(stderr)) != 0) {}
+  void update(std::size_t done, double sim_time) {
+    if (quiet_ || total_ == 0) return;
+    const auto percent = static_cast<int>(100 * done / total_);
+    if (percent == last_) return;
+    last_ = percent;
+    if (tty_) {
+      const int width = 40;
+      const int filled = percent * width / 100;
+      std::fprintf(stderr, "\r[%s%s] %3d%%  t = %.3f s", std::string(static_cast<std::size_t>(filled), '#').c_str(),
+                   std::string(static_cast<std::size_t>(width - filled), ' ').c_str(), percent, sim_time);
+      if (done == total_) std::fprintf(stderr, "\n");
+    } else if (percent % 10 == 0) {
+      std::fprintf(stderr, "run: %d%% (t = %.3f s)\n", percent, sim_time);
+    }
+  }
+
+ private:
+  bool quiet_;
+  std::size_t total_;
+  bool tty_;
+  int last_ = -1;
+};
+
+void run(const Options& o) {
+  Scene scene = load_scene(o.scene);
+  if (!o.method.empty()) {
+    const auto method = parse_response_method(o.method);
+    if (!method) throw Error("--method: unknown method \"" + o.method + "\" (known: obb, primitive, normal, project)");
+    scene.settings.response.method = *method;
+  }
+  if (o.duration >= 0) scene.duration = o.duration;
+  const double dt = scene.timestep;
+  const auto steps = static_cast<std::size_t>(std::ceil(scene.duration / dt - 1e-9));
+
+  Simulation sim(std::move(scene.world), scene.settings);
+  const World& world = sim.world();
+
+  std::unique_ptr<std::ofstream> record;
+  const fs::path record_tmp = o.record.empty() ? fs::path() : fs::path(o.record + ".tmp");
+  if (!o.record.empty()) {
+    record = std::make_unique<std::ofstream>(record_tmp);
+    if (!*record) throw Error(o.record + ": cannot write");
+    *record << "time_s";
+    for (const InstrumentBody& b : world.instruments)
+      for (const char* c : {"x", "y", "z", "qw", "qx", "qy", "qz", "jaw", "fx", "fy", "fz", "tx", "ty", "tz"})
+        *record << "," << b.name << "_" << c;
+    *record << ",contacts,penetration_m,tunneling,kinetic_J,elastic_J,motion_us,broad_phase_us,narrow_phase_us,"
+               "response_us,deformation_us,metrics_us,step_us\n";
+    record->precision(9);
+  }
+
+  std::vector<double> t_broad, t_narrow, t_response, t_deform, t_step;
+  for (auto* v : {&t_broad, &t_narrow, &t_response, &t_deform, &t_step}) v->reserve(steps);
+  std::vector<double> depths, forces;
+  std::uint64_t pairs_total = 0, pairs_max = 0, steps_with_contact = 0, tunneling = 0;
+  bool stable = true;
+  Progress progress(o.quiet, steps);
+  const auto wall0 = std::chrono::steady_clock::now();
+  std::size_t done = 0;
+  for (; done < steps; ++done) {
+    const StepMetrics& m = sim.step(dt);
+    t_broad.push_back(m.timings.broad_phase);
+    t_narrow.push_back(m.timings.narrow_phase);
+    t_response.push_back(m.timings.response);
+    t_deform.push_back(m.timings.deformation);
+    t_step.push_back(m.timings.step);
+    pairs_total += m.contacts;
+    pairs_max = std::max<std::uint64_t>(pairs_max, m.contacts);
+    steps_with_contact += m.contacts > 0 ? 1 : 0;
+    tunneling += m.tunneling_events;
+    if (m.vertices_inside > 0) depths.push_back(m.penetration_max);
+    double force = 0;
+    for (const InstrumentMetrics& im : sim.instrument_metrics()) force = std::max(force, im.force.norm());
+    forces.push_back(force);
+    if (record) {
+      *record << m.time;
+      for (std::size_t i = 0; i < world.instruments.size(); ++i) {
+        const Instrument& in = world.instruments[i].instrument;
+        const Pose& p = in.pose();
+        const InstrumentMetrics& im = sim.instrument_metrics()[i];
+        *record << "," << p.translation.x() << "," << p.translation.y() << "," << p.translation.z() << ","
+                << p.rotation.w() << "," << p.rotation.x() << "," << p.rotation.y() << "," << p.rotation.z() << ","
+                << in.jaw() << "," << im.force.x() << "," << im.force.y() << "," << im.force.z() << ","
+                << im.torque.x() << "," << im.torque.y() << "," << im.torque.z();
+      }
+      const StageTimings& t = m.timings;
+      *record << "," << m.contacts << "," << m.penetration_max << "," << m.tunneling_events << "," << m.kinetic_energy
+              << "," << m.elastic_energy << "," << t.motion << "," << t.broad_phase << "," << t.narrow_phase << ","
+              << t.response << "," << t.deformation << "," << t.metrics << "," << t.step << "\n";
+    }
+    progress.update(done + 1, m.time);
+    if (!m.finite || m.max_speed > kUnstableSpeed) {
+      stable = false;
+      ++done;
+      break;
+    }
+  }
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+
+  const nlohmann::json depth = summary(depths);
+  double depth_mean = 0, force_mean = 0, force_max = 0;
+  for (double d : depths) depth_mean += d;
+  if (!depths.empty()) depth_mean /= static_cast<double>(depths.size());
+  for (double f : forces) force_mean += f, force_max = std::max(force_max, f);
+  if (!forces.empty()) force_mean /= static_cast<double>(forces.size());
+
+  nlohmann::json report = {
+      {"scene", scene.name},
+      {"method", response_method_name(sim.settings().response.method)},
+      {"steps", done},
+      {"timestep_s", dt},
+      {"sim_time_s", sim.time()},
+      {"wall_time_s", wall},
+      {"timing_us",
+       {{"broad_phase", summary(t_broad)},
+        {"narrow_phase", summary(t_narrow)},
+        {"response", summary(t_response)},
+        {"deformation", summary(t_deform)},
+        {"step", summary(t_step)}}},
+      {"contacts",
+       {{"pairs_total", pairs_total}, {"pairs_max_per_step", pairs_max}, {"steps_with_contact", steps_with_contact}}},
+      {"penetration_m", {{"max", depth["max"]}, {"mean", depth_mean}, {"p99", depth["p99"]}}},
+      {"tunneling_events", tunneling},
+      {"instrument_force_N", {{"max", force_max}, {"mean", force_mean}}},
+      {"stable", stable},
+      {"state_hash", hash_hex(sim.state_hash())},
+  };
+  if (record) {
+    record->close();
+    fs::rename(record_tmp, o.record);
+  }
+  if (!o.report.empty()) write_atomically(o.report, report.dump(2) + "\n");
+  if (!o.quiet)
+    std::printf("%s: %zu steps, %.3f s simulated in %.3f s; step median %.1f us; %s; hash %s\n", scene.name.c_str(),
+                done, sim.time(), wall, report["timing_us"]["step"]["median"].get<double>(),
+                stable ? "stable" : "UNSTABLE", hash_hex(sim.state_hash()).c_str());
+}
+
+}  // namespace
+
+void add_run_command(CLI::App& app, int& exit_code) {
+  auto options = std::make_shared<Options>();
+  CLI::App* cmd = app.add_subcommand("run", "Run a scene headless and write a report");
+  cmd->add_option("scene", options->scene, "Scene file (JSON, docs/scene.md)")->required();
+  cmd->add_option("--duration", options->duration, "Simulated seconds (default: the scene's duration)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--method", options->method, "Response method: obb, primitive, normal, project");
+  cmd->add_option("--report", options->report, "Write the run report (JSON) to this file");
+  cmd->add_option("--record", options->record, "Write a per-step CSV to this file");
+  cmd->add_flag("--quiet,-q", options->quiet, "Print nothing but errors");
+  cmd->callback([options, &exit_code]() {
+    run(*options);
+    (void)exit_code;
+  });
+}
+
+}  // namespace trocar::cli
