@@ -5,6 +5,7 @@
 #include "bench_command.h"
 #include "mesh_command.h"
 #include "run_command.h"
+#include "study_command.h"
 #include "trocar/core/error.h"
 
 int main(int argc, char** argv) {
@@ -14,6 +15,7 @@ int main(int argc, char** argv) {
   trocar::cli::add_mesh_command(app, exit_code);
   trocar::cli::add_bench_command(app, exit_code);
   trocar::cli::add_run_command(app, exit_code);
+  trocar::cli::add_study_command(app, exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
