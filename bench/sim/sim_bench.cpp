@@ -1,0 +1,48 @@
+// Simulation::step on the probe–liver developer scene (shared meshes; skipped when absent).
+// The target: step median ≤ 100 µs on one core. Counters split the step by stage.
+#include <benchmark/benchmark.h>
+
+#include "../../tests/sim/probe_liver_scene.h"
+#include "trocar/sim/simulation.h"
+
+namespace trocar {
+namespace {
+
+/// arg 0: 1 = penetration/tunneling metrics on, 0 = off.
+void BM_ProbeLiverStep(benchmark::State& state) {
+  const auto text = test::probe_liver_scene_text(0.5);
+  if (!text) {
+    state.SkipWithError("shared meshes absent");
+    return;
+  }
+  Scene scene = parse_scene(*text, "probe-liver.json", "/");
+  scene.settings.measure_penetration = state.range(0) != 0;
+  Simulation sim(std::move(scene.world), scene.settings);
+  // Warm up into contact: 0.6 s (the probe is pressed in from t = 0.5 s).
+  for (int n = 0; n < 600; ++n) sim.step(1e-3);
+  StageTimings sum{};
+  std::int64_t steps = 0;
+  std::uint64_t contacts = 0;
+  for (auto _ : state) {
+    const StepMetrics& m = sim.step(1e-3);
+    sum.broad_phase += m.timings.broad_phase;
+    sum.narrow_phase += m.timings.narrow_phase;
+    sum.response += m.timings.response;
+    sum.deformation += m.timings.deformation;
+    sum.metrics += m.timings.metrics;
+    contacts += m.contacts;
+    ++steps;
+  }
+  const auto mean = [&](double v) { return benchmark::Counter(v / static_cast<double>(std::max<std::int64_t>(steps, 1))); };
+  state.counters["broad_us"] = mean(sum.broad_phase);
+  state.counters["narrow_us"] = mean(sum.narrow_phase);
+  state.counters["response_us"] = mean(sum.response);
+  state.counters["deform_us"] = mean(sum.deformation);
+  state.counters["metrics_us"] = mean(sum.metrics);
+  state.counters["contacts"] = mean(static_cast<double>(contacts));
+}
+BENCHMARK(BM_ProbeLiverStep)->Arg(1)->Arg(0)->Unit(benchmark::kMicrosecond)->Iterations(2000)->Repetitions(5)
+    ->ReportAggregatesOnly(true);
+
+}  // namespace
+}  // namespace trocar
