@@ -1,0 +1,71 @@
+// No heap allocation inside Simulation::step after the first steps (DESIGN.md §3): a counting
+// global operator new (for this whole test binary; it counts only while a window is open).
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstdlib>
+#include <new>
+
+#include "probe_scene.h"
+#include "trocar/sim/simulation.h"
+
+namespace {
+std::atomic<bool> g_counting{false};
+std::atomic<long> g_allocations{0};
+
+void* counted_allocate(std::size_t size) {
+  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
+  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
+  throw std::bad_alloc();
+}
+}  // namespace
+
+void* operator new(std::size_t size) { return counted_allocate(size); }
+void* operator new[](std::size_t size) { return counted_allocate(size); }
+void* operator new(std::size_t size, const std::nothrow_t&) noexcept {
+  try {
+    return counted_allocate(size);
+  } catch (...) {
+    return nullptr;
+  }
+}
+void* operator new[](std::size_t size, const std::nothrow_t&) noexcept {
+  try {
+    return counted_allocate(size);
+  } catch (...) {
+    return nullptr;
+  }
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete[](void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+void operator delete(void* p, const std::nothrow_t&) noexcept { std::free(p); }
+void operator delete[](void* p, const std::nothrow_t&) noexcept { std::free(p); }
+
+namespace trocar {
+namespace {
+
+TEST(SimulationAllocation, StepInContactAllocatesNothing) {
+  g_allocations = 0;
+  g_counting = true;
+  auto* probe = new std::vector<int>(10);
+  g_counting = false;
+  delete probe;
+  ASSERT_EQ(g_allocations.load(), 2);  // the counter works
+
+  // Press in for 0.1 s, then hold; every step detects and measures penetration.
+  Scene scene = test::probe_scene(0.04, 0.024, 0.1);
+  Simulation sim(std::move(scene.world), scene.settings);
+  for (int n = 0; n < 150; ++n) sim.step(1e-3);  // buffers reach their size
+  g_allocations = 0;
+  g_counting = true;
+  std::uint32_t contacts = 0;
+  for (int n = 0; n < 100; ++n) contacts += sim.step(1e-3).contacts;
+  g_counting = false;
+  EXPECT_GT(contacts, 0u);
+  EXPECT_EQ(g_allocations.load(), 0);
+}
+
+}  // namespace
+}  // namespace trocar
