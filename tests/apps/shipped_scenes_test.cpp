@@ -5,7 +5,12 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <string>
+
+#include <nlohmann/json.hpp>
 
 #include "trocar/response/contact_response.h"
 #include "trocar/scene/scene.h"
@@ -114,6 +119,22 @@ TEST(ShippedScenes, StabRunsStablyWithNoFarSurfaceContactApplied) {
   EXPECT_GT(r.applied, 0u);
   EXPECT_GT(r.far_contacts, 0u);  // the probe does reach the far surface from inside
   EXPECT_EQ(r.far_contacts_applied, 0u);
+}
+
+/// The CLI's own verdict: `trocar run SCENE --duration 2 --report FILE` says `stable: true`.
+TEST(ShippedScenes, TrocarRunReportsStable) {
+  for (const char* name : {"hernia", "probe_press_slide", "grasp_lift", "stab"}) {
+    const std::filesystem::path report =
+        std::filesystem::temp_directory_path() / ("trocar_shipped_" + std::string(name) + ".json");
+    const std::string cmd = std::string(TROCAR_CLI) + " run " + kScenes + "/" + name + ".json --duration 2 --report " +
+                            report.string() + " --quiet > /dev/null 2>&1";
+    ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+    std::ifstream f(report);
+    const nlohmann::json r = nlohmann::json::parse(f);
+    EXPECT_TRUE(r.at("stable").get<bool>()) << name;
+    EXPECT_EQ(r.at("steps").get<int>(), 2000) << name;
+    std::filesystem::remove(report);
+  }
 }
 
 }  // namespace
