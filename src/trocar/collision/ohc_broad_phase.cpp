@@ -30,6 +30,11 @@ std::int32_t cell_of(Real x, Real inv_h) {
   return static_cast<Real>(t) > v ? t - 1 : t;
 }
 
+// How far ahead (in cluster vertex entries, ~2 clusters) the refit prefetches positions.
+constexpr std::uint32_t kRefitPrefetch = 48;
+// Objects with more vertices than this (1.5 MB of positions, beyond a core's L2) are prefetched.
+constexpr std::size_t kRefitPrefetchVertices = 65536;
+
 // Spreads the low 21 bits of x to every third bit (Morton code helper).
 std::uint64_t spread_bits(std::uint64_t x) {
   x &= 0x1fffff;
@@ -90,6 +95,8 @@ void OhcBroadPhase::build_clusters(ObjectClusters& c, const CollisionObject& obj
     c.vertices.insert(c.vertices.end(), ids.begin(), ids.end());
     c.vertex_start[k + 1] = static_cast<std::uint32_t>(c.vertices.size());
   }
+  // Padding read only by the refit's prefetch (vertex 0 exists whenever a cluster does).
+  c.vertices.insert(c.vertices.end(), kRefitPrefetch, 0u);
   c.boxes.resize(clusters);
 }
 
@@ -101,6 +108,7 @@ void OhcBroadPhase::build_clusters(ObjectClusters& c, const CollisionObject& obj
 // only when the CPU has it (checked once). min/max of doubles are exact, so the boxes are
 // bit-identical to the SSE2 / scalar paths (a NaN coordinate propagates the same way: the
 // vertex is the second operand).
+template <bool kPrefetch>
 __attribute__((target("avx2"))) static void refit_boxes_avx2(const Vec3* p, const std::uint32_t* ids,
                                                              const std::uint32_t* vertex_start,
                                                              std::size_t clusters, Aabb* boxes, Real* olo,
@@ -115,6 +123,12 @@ __attribute__((target("avx2"))) static void refit_boxes_avx2(const Vec3* p, cons
     __m256d lo0 = _mm256_set1_pd(kInf), lo1 = lo0, hi0 = _mm256_set1_pd(-kInf), hi1 = hi0;
     std::uint32_t i = begin;
     for (; i + 1 < end; i += 2) {
+      // Large meshes: the ids run on past this cluster (padded at the end), so the vertices ~2
+      // clusters ahead are requested now; positions just rewritten come from memory, and the
+      // clusters' scattered rows defeat the hardware prefetcher. (Small meshes sit in cache.)
+      if constexpr (kPrefetch) {
+        _mm_prefetch(reinterpret_cast<const char*>(p + ids[i + kRefitPrefetch]), _MM_HINT_T0);
+      }
       const __m256d x0 = _mm256_maskload_pd(p[ids[i]].data(), mask);
       const __m256d x1 = _mm256_maskload_pd(p[ids[i + 1]].data(), mask);
       lo0 = _mm256_min_pd(lo0, x0);
@@ -163,7 +177,11 @@ Aabb OhcBroadPhase::refit_clusters(ObjectClusters& c, const CollisionObject& obj
   std::size_t first_sse_cluster = 0;  // all clusters when the AVX2 path ran
 #if defined(TROCAR_OHC_AVX2)
   if (cpu_has_avx2()) {
-    refit_boxes_avx2(p, ids, c.vertex_start.data(), c.boxes.size(), c.boxes.data(), olo, ohi);
+    if (object.positions.size() > kRefitPrefetchVertices) {
+      refit_boxes_avx2<true>(p, ids, c.vertex_start.data(), c.boxes.size(), c.boxes.data(), olo, ohi);
+    } else {
+      refit_boxes_avx2<false>(p, ids, c.vertex_start.data(), c.boxes.size(), c.boxes.data(), olo, ohi);
+    }
     first_sse_cluster = c.boxes.size();
   }
 #endif
