@@ -102,12 +102,13 @@ void OhcBroadPhase::build_clusters(ObjectClusters& c, const CollisionObject& obj
 
 #if defined(__x86_64__) && defined(__GNUC__)
 #define TROCAR_OHC_AVX2 1
-// The refit with 256-bit registers: one masked load brings a vertex's x, y, z (the fourth lane
-// is masked, so nothing past the positions array is read), one min and one max per vertex; two
-// accumulators break the latency chain. Compiled for AVX2 whatever the build flags and used
-// only when the CPU has it (checked once). min/max of doubles are exact, so the boxes are
-// bit-identical to the SSE2 / scalar paths (a NaN coordinate propagates the same way: the
-// vertex is the second operand).
+// The refit with 256-bit registers: one 32-byte load brings a vertex's x, y, z (and the next
+// vertex's x in the fourth lane, which is never used), one min and one max per vertex; two
+// accumulators break the latency chain. Ids are ascending within a cluster, so only its last one
+// can be the array's last vertex: that one is loaded with the fourth lane masked, and nothing
+// past the positions array is read. Compiled for AVX2 whatever the build flags and used only
+// when the CPU has it (checked once). min/max of doubles are exact, so the boxes are
+// bit-identical to the scalar path's except possibly for the sign of a zero or which NaN.
 template <bool kPrefetch>
 __attribute__((target("avx2"))) static void refit_boxes_avx2(const Vec3* p, const std::uint32_t* ids,
                                                              const std::uint32_t* vertex_start,
@@ -121,26 +122,30 @@ __attribute__((target("avx2"))) static void refit_boxes_avx2(const Vec3* p, cons
     const std::uint32_t begin = vertex_start[k];
     const std::uint32_t end = vertex_start[k + 1];
     __m256d lo0 = _mm256_set1_pd(kInf), lo1 = lo0, hi0 = _mm256_set1_pd(-kInf), hi1 = hi0;
+    const std::uint32_t last = end - 1;  // clusters are never empty
     std::uint32_t i = begin;
-    for (; i + 1 < end; i += 2) {
+    for (; i + 1 < last; i += 2) {
       // Large meshes: the ids run on past this cluster (padded at the end), so the vertices ~2
       // clusters ahead are requested now; positions just rewritten come from memory, and the
       // clusters' scattered rows defeat the hardware prefetcher. (Small meshes sit in cache.)
       if constexpr (kPrefetch) {
         _mm_prefetch(reinterpret_cast<const char*>(p + ids[i + kRefitPrefetch]), _MM_HINT_T0);
       }
-      const __m256d x0 = _mm256_maskload_pd(p[ids[i]].data(), mask);
-      const __m256d x1 = _mm256_maskload_pd(p[ids[i + 1]].data(), mask);
+      const __m256d x0 = _mm256_loadu_pd(p[ids[i]].data());
+      const __m256d x1 = _mm256_loadu_pd(p[ids[i + 1]].data());
       lo0 = _mm256_min_pd(lo0, x0);
       hi0 = _mm256_max_pd(hi0, x0);
       lo1 = _mm256_min_pd(lo1, x1);
       hi1 = _mm256_max_pd(hi1, x1);
     }
-    if (i < end) {
-      const __m256d x0 = _mm256_maskload_pd(p[ids[i]].data(), mask);
+    if (i < last) {
+      const __m256d x0 = _mm256_loadu_pd(p[ids[i]].data());
       lo0 = _mm256_min_pd(lo0, x0);
       hi0 = _mm256_max_pd(hi0, x0);
     }
+    const __m256d x_last = _mm256_maskload_pd(p[ids[last]].data(), mask);
+    lo1 = _mm256_min_pd(lo1, x_last);
+    hi1 = _mm256_max_pd(hi1, x_last);
     const __m256d lo = _mm256_min_pd(lo0, lo1);
     const __m256d hi = _mm256_max_pd(hi0, hi1);
     alignas(32) Real l[4];
