@@ -419,7 +419,9 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
   entries_.resize(entry_count);
   if (cell_starts_.size() < entries_.size()) cell_starts_.resize(entries_.size());  // a cell's worth
   Entry* entries = entries_.data();
-  for (std::uint32_t k = 0; k < primitives_.size(); ++k) {
+  // Primitives in descending order, each slot filled from its back: every slot ends up in
+  // ascending primitive order (step 5 relies on it).
+  for (auto k = static_cast<std::uint32_t>(primitives_.size()); k-- > 0;) {
     const Primitive& prim = primitives_[k];
     for (std::int32_t z = prim.lo[2]; z <= prim.hi[2]; ++z)
       for (std::int32_t y = prim.lo[1]; y <= prim.hi[1]; ++y)
@@ -429,6 +431,7 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
 
   // 5. Per slot: sort by (cell, primitive) so hash collisions fall apart into cells, then
   //    classify each cell and emit pairs from the potential-colliding ones.
+  const auto same_cell = [](const Entry& a, const Entry& b) { return a.x == b.x && a.y == b.y && a.z == b.z; };
   const auto entry_less = [](const Entry& a, const Entry& b) {
     if (a.x != b.x) return a.x < b.x;
     if (a.y != b.y) return a.y < b.y;
@@ -444,7 +447,13 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
       ++stats_.solo_cells;
       continue;
     }
-    if (e - b <= 16) {
+    // The slot is in ascending primitive order already; it needs sorting only when a hash
+    // collision mixed cells in it (rare: the table has ≥ 2 slots per entry).
+    bool one_cell = true;
+    for (std::uint32_t i = b + 1; i < e && one_cell; ++i) one_cell = same_cell(entries[i], entries[b]);
+    if (one_cell) {
+      // nothing to do
+    } else if (e - b <= 16) {
       for (std::uint32_t i = b + 1; i < e; ++i) {  // insertion sort: slots are tiny
         const Entry v = entries[i];
         std::uint32_t j = i;
