@@ -1,5 +1,7 @@
 // Runs `trocar bench collision` as a user would, on small meshes made with `trocar mesh generate`.
 #include <gtest/gtest.h>
+
+#include "support/run_program.h"
 #include <sys/wait.h>
 
 #include <cstdio>
@@ -13,23 +15,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct RunResult {
-  int exit_code = -1;
-  std::string output;
-};
+using trocar::test::RunResult;
 
 /// Runs the program; stderr goes to the output too unless `stdout_only`.
 RunResult run(const std::string& args, bool stdout_only = false) {
-  const std::string command = std::string(TROCAR_CLI) + " " + args + (stdout_only ? " 2>/dev/null" : " 2>&1");
-  RunResult result;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (pipe == nullptr) return result;
-  char buffer[4096];
-  std::size_t n = 0;
-  while ((n = fread(buffer, 1, sizeof buffer, pipe)) > 0) result.output.append(buffer, n);
-  const int status = pclose(pipe);
-  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return result;
+  return trocar::test::run_program(TROCAR_CLI, args, stdout_only);
 }
 
 class BenchCli : public ::testing::Test {

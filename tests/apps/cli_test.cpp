@@ -1,5 +1,7 @@
 // Runs the trocar program as a user would and checks what it prints and returns.
 #include <gtest/gtest.h>
+
+#include "support/run_program.h"
 #include <sys/wait.h>
 
 #include <cmath>
@@ -14,23 +16,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct RunResult {
-  int exit_code = -1;
-  std::string output;  // stdout and stderr together
-};
+using trocar::test::RunResult;
 
-RunResult run(const std::string& args) {
-  const std::string command = std::string(TROCAR_CLI) + " " + args + " 2>&1";
-  RunResult result;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (pipe == nullptr) return result;
-  char buffer[4096];
-  std::size_t n = 0;
-  while ((n = fread(buffer, 1, sizeof buffer, pipe)) > 0) result.output.append(buffer, n);
-  const int status = pclose(pipe);
-  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return result;
-}
+RunResult run(const std::string& args) { return trocar::test::run_program(TROCAR_CLI, args); }
 
 class Cli : public ::testing::Test {
  protected:

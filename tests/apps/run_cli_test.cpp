@@ -1,5 +1,7 @@
 // `trocar run`: a small generated scene gives a valid report; a bad scene fails and writes nothing.
 #include <gtest/gtest.h>
+
+#include "support/run_program.h"
 #include <sys/wait.h>
 
 #include <cstdio>
@@ -13,23 +15,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct RunResult {
-  int exit_code = -1;
-  std::string output;
-};
+using trocar::test::RunResult;
 
-RunResult run(const std::string& args) {
-  const std::string command = std::string(TROCAR_CLI) + " " + args + " 2>&1";
-  RunResult result;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (pipe == nullptr) return result;
-  char buffer[4096];
-  std::size_t n = 0;
-  while ((n = fread(buffer, 1, sizeof buffer, pipe)) > 0) result.output.append(buffer, n);
-  const int status = pclose(pipe);
-  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return result;
-}
+RunResult run(const std::string& args) { return trocar::test::run_program(TROCAR_CLI, args); }
 
 const char* kScene = R"({"schema": 1, "name": "probe-ball", "timestep": 0.001, "duration": 0.15, "gravity": [0, 0, 0],
  "tissues": [{"name": "ball", "mesh": {"generate": "icosphere", "radius": 0.03, "subdivisions": 3},
