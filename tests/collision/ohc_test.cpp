@@ -2,6 +2,9 @@
 // ordering, determinism, statistics and the table growing only when needed.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
+
 #include "scene_util.h"
 #include "trocar/mesh/generate.h"
 
@@ -71,11 +74,69 @@ TEST(OhcCells, HandBuiltSceneClassification) {
   // With the cascade only the overlap regions are hashed: the tissue's triangle in (2,1,0)
   // (y ∈ [1.2, 1.8]) lies outside every overlap and is dropped, the rest stay.
   settings.cascade = true;
+  settings.cluster_cascade = false;  // the object level alone (see ClusterCascade below)
   ohc.set_settings(settings);
   ohc.find_pairs(objects, pairs);
   EXPECT_EQ(ohc.stats().primitives_hashed, 6u);
   EXPECT_EQ(ohc.stats().potential_cells, 2u);
   EXPECT_EQ(ohc.stats().candidate_pairs, 4u);
+}
+
+// Tissue: 32 kind-1 triangles in cell (0,0,0) and 32 in (5,5,0): two clusters (Morton order).
+// Instrument: kind-0 triangles in (0,0,0) and (5,0,0): one cluster spanning both.
+TEST(OhcCells, ClusterCascadeHandBuilt) {
+  TriMesh tissue;
+  for (int k = 0; k < 32; ++k) tissue = merge(tissue, cell_triangle(1, 0, 0));
+  for (int k = 0; k < 32; ++k) tissue = merge(tissue, cell_triangle(1, 5, 5));
+  Scene scene;
+  scene.add(merge(cell_triangle(0, 0, 0), cell_triangle(0, 5, 0)), ObjectRole::kInstrument);
+  scene.add(tissue, ObjectRole::kTissue);
+  const auto objects = scene.objects();
+  OhcSettings settings;
+  settings.cell_size = 1.0;
+  settings.cascade = true;
+  settings.cluster_cascade = false;
+  OhcBroadPhase ohc(settings);
+  std::vector<CandidatePair> pairs;
+  ohc.find_pairs(objects, pairs);
+  // Object level: boxes overlap in x [0.2, 5.8], y [0.5, 0.8], z 0.5. The tissue cluster in
+  // (5,5,0) (y = 5.5) stays closed; the other 32 tissue triangles and both instrument triangles
+  // are hashed: (0,0,0) holds 33 (potential), (5,0,0) the instrument's second one (solo);
+  // block x 0..5 = 6 cells, 4 empty. Pairs: the 32 tissue triangles with the instrument's first.
+  EXPECT_EQ(ohc.stats().objects_overlapping, 1u);
+  EXPECT_EQ(ohc.stats().cluster_pairs, 0u);
+  EXPECT_EQ(ohc.stats().clusters_opened, 2u);
+  EXPECT_EQ(ohc.stats().primitives_hashed, 34u);
+  EXPECT_EQ(ohc.stats().entries, 34u);
+  EXPECT_EQ(ohc.stats().cells_touched, 2u);
+  EXPECT_EQ(ohc.stats().potential_cells, 1u);
+  EXPECT_EQ(ohc.stats().solo_cells, 1u);
+  EXPECT_EQ(ohc.stats().empty_cells, 4u);
+  EXPECT_EQ(ohc.stats().candidate_pairs, 32u);
+  const auto keys = [](const std::vector<CandidatePair>& v) {
+    std::vector<std::array<std::uint32_t, 4>> k;
+    for (const CandidatePair& p : v) k.push_back({p.object_a, p.object_b, p.triangle_a, p.triangle_b});
+    std::sort(k.begin(), k.end());
+    return k;
+  };
+  const auto object_level = keys(pairs);
+
+  // Cluster level: the instrument's cluster meets only the tissue cluster in (0,0,0); their
+  // overlap is x [0.2, 0.8], y 0.5, z 0.5, which the instrument's triangle in (5,0,0) misses.
+  // 33 triangles hashed, all into (0,0,0); the same 32 pairs.
+  settings.cluster_cascade = true;
+  ohc.set_settings(settings);
+  ohc.find_pairs(objects, pairs);
+  EXPECT_EQ(ohc.stats().cluster_pairs, 1u);
+  EXPECT_EQ(ohc.stats().clusters_opened, 2u);
+  EXPECT_EQ(ohc.stats().primitives_hashed, 33u);
+  EXPECT_EQ(ohc.stats().entries, 33u);
+  EXPECT_EQ(ohc.stats().cells_touched, 1u);
+  EXPECT_EQ(ohc.stats().potential_cells, 1u);
+  EXPECT_EQ(ohc.stats().solo_cells, 0u);
+  EXPECT_EQ(ohc.stats().empty_cells, 0u);
+  EXPECT_EQ(ohc.stats().candidate_pairs, 32u);
+  EXPECT_EQ(keys(pairs), object_level);
 }
 
 TEST(OhcCells, ContactKindsAndOrder) {

@@ -101,7 +101,7 @@ inline void expect_unique_candidates(std::span<const CandidatePair> pairs, std::
   EXPECT_EQ(std::adjacent_find(keys.begin(), keys.end()), keys.end()) << what << ": a pair is returned twice";
 }
 
-/// Runs OHC (auto cell, cascade on and off), BVH and brute force and expects the same contacts;
+/// Runs OHC (auto cell; both cascade levels, the object level only, no cascade), BVH and brute force and expects the same contacts;
 /// returns the brute-force contacts.
 inline std::vector<Contact> expect_all_agree(std::span<const CollisionObject> objects, const std::string& what,
                                              bool with_brute = true) {
@@ -111,12 +111,15 @@ inline std::vector<Contact> expect_all_agree(std::span<const CollisionObject> ob
     reference = contacts_with(BroadPhaseKind::kBruteForce, objects);
     expect_same_contacts(reference, bvh, what + " (bvh vs brute)");
   }
-  for (const bool cascade : {true, false}) {
+  // 2: both cascade levels (the default), 1: object level only, 0: no cascade.
+  for (const int levels : {2, 1, 0}) {
     OhcSettings settings;
-    settings.cascade = cascade;
+    settings.cascade = levels >= 1;
+    settings.cluster_cascade = levels >= 2;
     CollisionDetector ohc(settings);
     const auto found = ohc.detect(objects);
-    expect_same_contacts(reference, {found.begin(), found.end()}, what + (cascade ? " (ohc)" : " (ohc, no cascade)"));
+    expect_same_contacts(reference, {found.begin(), found.end()},
+                         what + (levels == 2 ? " (ohc)" : levels == 1 ? " (ohc, object cascade only)" : " (ohc, no cascade)"));
     expect_unique_candidates(ohc.candidates(), objects, what + " (ohc candidates)");
   }
   return reference;

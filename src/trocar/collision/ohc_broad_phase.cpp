@@ -98,6 +98,57 @@ void OhcBroadPhase::build_clusters(ObjectClusters& c, const CollisionObject& obj
   // Padding read only by the refit's prefetch (vertex 0 exists whenever a cluster does).
   c.vertices.insert(c.vertices.end(), kRefitPrefetch, 0u);
   c.boxes.resize(clusters);
+  c.regions.resize(clusters);
+}
+
+void OhcBroadPhase::cluster_cascade(std::uint32_t i, std::uint32_t j) {
+  // The clusters of i and j whose grown boxes touch the overlap of the object boxes, swept on
+  // x: sorted by lower x, each item meets the later ones that start before it ends. A pair of
+  // different sides whose grown boxes overlap adds their overlap to both clusters' regions.
+  // Correctness: if triangles s of i and t of j have a common point x in their inflated boxes,
+  // x lies in the grown boxes of their clusters (a triangle's margin is at most its object's
+  // margin bound) and in both object boxes, so both clusters are swept, the later one in x order
+  // is met by the earlier one, and x ends up in both clusters' regions.
+  const Aabb overlap = boxes_[i].intersection(boxes_[j]);
+  sweep_.clear();
+  for (std::uint32_t side = 0; side < 2; ++side) {
+    const std::uint32_t object = side == 0 ? i : j;
+    const ObjectClusters& c = clusters_[object];
+    const Real margin = margins_[object];
+    for (std::uint32_t k = 0; k < c.boxes.size(); ++k) {
+      const Aabb grown = c.boxes[k].inflated(margin);
+      // A box with a NaN fails this, so the sort below never compares a NaN.
+      if (grown.overlaps(overlap)) sweep_.push_back({grown, side, k});
+    }
+  }
+  std::sort(sweep_.begin(), sweep_.end(), [](const SweepItem& a, const SweepItem& b) {
+    if (a.box.min.x() != b.box.min.x()) return a.box.min.x() < b.box.min.x();
+    if (a.side != b.side) return a.side < b.side;
+    return a.cluster < b.cluster;
+  });
+  // Steps are bounded by a multiple of the clusters (so O(primitives) whatever the geometry);
+  // past it every swept cluster simply gets its box's overlap with the object overlap (what the
+  // object level alone would allow it), which is still exact.
+  const std::size_t budget = 16 * sweep_.size() + 1024;
+  std::size_t steps = 0;
+  const std::size_t count = sweep_.size();
+  for (std::size_t a = 0; a < count; ++a) {
+    const SweepItem& p = sweep_[a];
+    for (std::size_t b = a + 1; b < count && sweep_[b].box.min.x() <= p.box.max.x(); ++b) {
+      if (++steps > budget) {
+        for (const SweepItem& item : sweep_) {
+          clusters_[item.side == 0 ? i : j].regions[item.cluster].expand(item.box.intersection(overlap));
+        }
+        return;
+      }
+      const SweepItem& q = sweep_[b];
+      if (p.side == q.side || !p.box.overlaps(q.box)) continue;
+      const Aabb both = p.box.intersection(q.box);
+      clusters_[p.side == 0 ? i : j].regions[p.cluster].expand(both);
+      clusters_[q.side == 0 ? i : j].regions[q.cluster].expand(both);
+      ++stats_.cluster_pairs;
+    }
+  }
 }
 
 #if defined(__x86_64__) && defined(__GNUC__)
@@ -279,6 +330,20 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
     }
     boxes_[i] = refit_clusters(c, object);
   }
+  const bool by_cluster = settings_.cascade && settings_.cluster_cascade;
+  margins_.resize(n);
+  std::size_t all_clusters = 0;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    // Bound on the margin of each of the object's triangle boxes (kBoxMargin of a side that is
+    // at most the object's).
+    margins_[i] = boxes_[i].is_empty() ? 0.0 : kBoxMargin * boxes_[i].size().maxCoeff();
+    if (by_cluster) {
+      ObjectClusters& c = clusters_[i];
+      c.regions.assign(c.boxes.size(), Aabb{});
+      all_clusters += c.boxes.size();
+    }
+  }
+  if (by_cluster) sweep_.reserve(all_clusters);  // a pair sweeps at most every cluster
   for (std::uint32_t i = 0; i < n; ++i) {
     if (boxes_[i].is_empty()) continue;
     for (std::uint32_t j = i + 1; j < n; ++j) {
@@ -291,6 +356,7 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
         const Aabb overlap = boxes_[i].intersection(boxes_[j]);
         regions_[i].expand(overlap);
         regions_[j].expand(overlap);
+        if (by_cluster) cluster_cascade(i, j);
       } else {
         regions_[i] = boxes_[i];
         regions_[j] = boxes_[j];
@@ -314,12 +380,23 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
     const Vec3* p = object.positions.data();
     // A triangle's margin is at most kBoxMargin·(object size): test the raw cluster boxes
     // against the region grown by that much, then clip the inflated triangle boxes.
-    const Aabb grown = region.inflated(kBoxMargin * boxes_[i].size().maxCoeff());
+    const Aabb grown = region.inflated(margins_[i]);
     const auto triangle_count = static_cast<std::uint32_t>(object.triangles.size());
-    const Real g_lo[3] = {grown.min.x(), grown.min.y(), grown.min.z()};
-    const Real g_hi[3] = {grown.max.x(), grown.max.y(), grown.max.z()};
     for (std::uint32_t k = 0; k < c.boxes.size(); ++k) {
       if (!c.boxes[k].overlaps(grown)) continue;
+      // With the cluster level, the cluster's own region (the overlaps of its grown box with
+      // partner clusters' grown boxes) narrows the object's; a common point of two inflated
+      // triangle boxes lies in both (see cluster_cascade()), so clipping to it loses no pair.
+      Aabb clip = region;
+      Aabb clip_grown = grown;
+      if (by_cluster) {
+        clip = region.intersection(c.regions[k]);
+        if (clip.is_empty()) continue;
+        clip_grown = clip.inflated(margins_[i]);
+      }
+      ++stats_.clusters_opened;
+      const Real g_lo[3] = {clip_grown.min.x(), clip_grown.min.y(), clip_grown.min.z()};
+      const Real g_hi[3] = {clip_grown.max.x(), clip_grown.max.y(), clip_grown.max.z()};
       const std::uint32_t end = std::min(triangle_count, (k + 1) * kClusterTriangles);
       for (std::uint32_t o = k * kClusterTriangles; o < end; ++o) {
         const Triangle& tri = c.ordered[o];
@@ -336,7 +413,7 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
         }
         if (outside) continue;
         const std::uint32_t t = c.order[o];
-        const Aabb box = triangle_box(a, b, cc).intersection(region);
+        const Aabb box = triangle_box(a, b, cc).intersection(clip);
         if (box.is_empty()) continue;
         Primitive prim;
         prim.min = box.min;

@@ -20,6 +20,12 @@ struct OhcSettings {
   /// object's box with a partner's box. false hashes every primitive of every object that
   /// overlaps a partner (for tests and measurements of what the cascade saves).
   bool cascade = true;
+  /// Cluster-level cascade (only with `cascade`): the pairs (cluster of one object, cluster of
+  /// a partner) whose margin-grown boxes overlap are found by a sweep on x; only clusters in
+  /// such a pair are opened, and of those only the triangles touching the bounding box of their
+  /// cluster's overlaps with its partner clusters are hashed, clipped to it. false stops at the
+  /// object level (for tests and measurements of what this level saves).
+  bool cluster_cascade = true;
   /// Upper bound on (primitive, cell) entries per hashed primitive, on average: when a frame
   /// would need more (a few huge triangles among tiny ones), the cell size is doubled until it
   /// fits. Keeps memory and time O(primitives) whatever the size mix (dimensionless).
@@ -29,6 +35,8 @@ struct OhcSettings {
 /// What one find_pairs() call did (all counts for that frame only).
 struct OhcStats {
   std::uint32_t objects_overlapping = 0;  ///< tested object pairs whose boxes overlap
+  std::uint32_t cluster_pairs = 0;        ///< overlapping (cluster, partner cluster) pairs
+  std::uint32_t clusters_opened = 0;      ///< clusters whose triangles were tested
   std::uint32_t primitives_hashed = 0;    ///< triangles that passed the cascade
   std::uint64_t entries = 0;              ///< (primitive, cell) entries in the hash table
   std::uint32_t table_size = 0;           ///< hash table slots (power of two, ≥ 2·entries)
@@ -114,10 +122,20 @@ class OhcBroadPhase final : public BroadPhase {
     std::vector<std::uint32_t> vertex_start;  ///< per cluster, first entry in vertices (+ end)
     std::vector<std::uint32_t> vertices;      ///< each cluster's distinct vertex ids, ascending
     std::vector<Aabb> boxes;                  ///< per cluster: box of its vertices this frame
+    /// Per cluster, this frame: bounding box of its (grown) box's overlaps with the (grown)
+    /// boxes of its partners' clusters (empty: not opened). Used by the cluster cascade only.
+    std::vector<Aabb> regions;
+  };
+  /// A cluster in the cluster-vs-cluster sweep: its grown box and where it comes from.
+  struct SweepItem {
+    Aabb box;                  ///< cluster box grown by its object's triangle margin bound
+    std::uint32_t side;        ///< 0: first object of the pair, 1: second
+    std::uint32_t cluster;     ///< cluster index in its object
   };
 
   static void build_clusters(ObjectClusters& c, const CollisionObject& object);
   static Aabb refit_clusters(ObjectClusters& c, const CollisionObject& object);
+  void cluster_cascade(std::uint32_t i, std::uint32_t j);
   void emit_cell_pairs(std::span<const Entry> cell, std::span<const CollisionObject> objects,
                        std::vector<CandidatePair>& out);
 
@@ -128,6 +146,8 @@ class OhcBroadPhase final : public BroadPhase {
   std::vector<std::uint8_t> tested_;   // objects² flags: pair tested and boxes overlap
   std::vector<ObjectClusters> clusters_;  // per object
   std::vector<Primitive> primitives_;
+  std::vector<Real> margins_;          // per object: bound on its triangles' box margins
+  std::vector<SweepItem> sweep_;       // cluster_cascade scratch (reserved for all clusters)
   std::vector<std::uint32_t> slot_start_;  // table_size + 1 (counting sort)
   std::vector<Entry> entries_;
   std::vector<std::uint8_t> cell_starts_;  // emit_cell_pairs scratch (≥ entries_.size())
