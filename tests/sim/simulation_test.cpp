@@ -132,5 +132,39 @@ TEST(Simulation, FastProbeThroughSlowDetectorCountsTunneling) {
   EXPECT_GT(tunneling, 0u);
 }
 
+TEST(Simulation, SlowPressAnsweredByContactsCountsNoTunneling) {
+  // The shipped press scene's hook probe pressing slowly (10 mm/s) into the liver lobe with
+  // detection every step: the response answers every touch, but after it the deforming surface
+  // springs back over hook vertices by tens of µm. Those are the tissue moving onto the tool
+  // (seen by the next detection), not the instrument crossing unseen: no tunneling.
+  const std::string text = R"({
+  "schema": 1, "name": "slow-press", "timestep": 0.001, "duration": 1.0, "gravity": [0, 0, -9.81],
+  "tissues": [{ "name": "liver",
+    "mesh": { "generate": "liver-lobe", "length": 0.16, "width": 0.10, "thickness": 0.06, "subdivisions": 3 },
+    "material": { "preset": "liver" },
+    "fixed": { "below_plane": { "point": [0, 0, -0.008], "normal": [0, 0, 1] } },
+    "integrator": "implicit-euler" }],
+  "instruments": [{ "name": "probe", "mesh": { "generate": "hook-probe", "shaft_length": 0.15 }, "top_vertex": "auto",
+    "motion": { "keyframes": [
+      { "t": 0.0, "position": [0, 0, 0.031] }, { "t": 0.05, "position": [0, 0, 0.031] },
+      { "t": 0.9, "position": [0, 0, 0.0225] } ] } }],
+  "collision": { "broad_phase": "ohc", "cell_size": "auto", "period": 0.001 },
+  "response": { "method": "obb", "stiffness": 2000, "damping": 5, "max_force": 10 }
+})";
+  Scene scene = parse_scene(text, "slow_press.json", ".");
+  Simulation sim(std::move(scene.world), scene.settings);
+  std::uint32_t tunneling = 0, contact_steps = 0, inside_steps = 0;
+  for (int n = 0; n < 950; ++n) {
+    const StepMetrics& m = sim.step(1e-3);
+    ASSERT_TRUE(m.finite) << "step " << n;
+    tunneling += m.tunneling_events;
+    contact_steps += m.contacts > 0 ? 1 : 0;
+    inside_steps += m.vertices_inside > 0 ? 1 : 0;
+  }
+  EXPECT_GT(contact_steps, 100u);  // the probe does press on the tissue
+  EXPECT_GT(inside_steps, 10u);    // and hook vertices do end steps inside the surface
+  EXPECT_EQ(tunneling, 0u);
+}
+
 }  // namespace
 }  // namespace trocar

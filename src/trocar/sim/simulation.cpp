@@ -64,11 +64,17 @@ Simulation::Simulation(World world, const SimulationSettings& settings)
     }
   instrument_metrics_.resize(ni);
   distances_.resize(nt);
+  start_distances_.resize(nt);
+  start_positions_.resize(nt);
   if (settings_.measure_penetration)
     for (std::size_t t = 0; t < nt; ++t)
-      if (world_.tissues[t]->settings.closed)
+      if (world_.tissues[t]->settings.closed) {
         distances_[t] = std::make_unique<MeshDistance>(world_.tissues[t]->state.positions,
                                                        world_.tissues[t]->settings.triangles);
+        start_distances_[t] = std::make_unique<MeshDistance>(world_.tissues[t]->state.positions,
+                                                             world_.tissues[t]->settings.triangles);
+        start_positions_[t] = world_.tissues[t]->state.positions;
+      }
   previous_distance_.resize(ni * nt);
   touched_.resize(ni);
   for (std::size_t i = 0; i < ni; ++i) {
@@ -101,6 +107,9 @@ const StepMetrics& Simulation::step(Real dt) {
   metrics_.timings.response = stage.microseconds();
 
   stage.restart();
+  for (std::size_t t = 0; t < world_.tissues.size(); ++t)  // the surface this step's detection saw
+    if (distances_[t]) std::copy(world_.tissues[t]->state.positions.begin(), world_.tissues[t]->state.positions.end(),
+                                 start_positions_[t].begin());
   deform(dt);
   metrics_.timings.deformation = stage.microseconds();
 
@@ -192,6 +201,7 @@ void Simulation::measure() {
     const TissueBody& tissue = *world_.tissues[t];
     const Aabb tissue_box = Aabb::of_points(tissue.state.positions);
     bool refitted = false;
+    bool start_refitted = false;
     for (std::size_t i = 0; i < ni; ++i) {
       const InstrumentBody& body = world_.instruments[i];
       std::span<const Vec3> points = body.instrument.world_positions();
@@ -219,7 +229,18 @@ void Simulation::measure() {
         if (d < 0) {
           ++metrics_.vertices_inside;
           metrics_.penetration_max = std::max(metrics_.penetration_max, -d);
+          bool crossed = false;
           if (prev > 0 && touched[v] == 0) {
+            // Did the vertex's own motion carry it across, i.e. is it inside the surface as the
+            // detection saw it? Otherwise the tissue moved over it after the response (a
+            // spring-back onto the tool, answered by the next detection), not a miss.
+            if (!start_refitted) {
+              start_distances_[t]->refit(start_positions_[t]);
+              start_refitted = true;
+            }
+            crossed = start_distances_[t]->signed_distance(points[v]).distance < 0;
+          }
+          if (crossed) {
             ++metrics_.tunneling_events;  // (a) crossed the surface with no contact seen
           } else if (-d > body.thickness && !(-prev > body.thickness)) {
             ++metrics_.tunneling_events;  // (b) deeper than the instrument is thick

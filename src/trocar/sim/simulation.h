@@ -77,10 +77,13 @@ struct StepMetrics {
 /// tissue's MeshDistance is refitted to the deformed positions once per step and every
 /// instrument vertex inside the box is queried; depth = max(0, −signed distance). Open tissues
 /// (sheets) have no inside and are not measured. Tunneling, per instrument vertex and tissue:
-/// (a) the vertex was outside at the end of the previous step and is inside now, and no contact
-/// of this step involves an instrument triangle incident to it (it crossed the surface unseen:
-/// between detections, or too fast for the discrete test); or (b) its depth first exceeds the
-/// instrument's thickness (counted when it goes from ≤ thickness to > thickness).
+/// (a) the vertex was outside at the end of the previous step, is inside now, is inside the
+/// surface as it stood when this step's detection ran (before this step's deformation: the
+/// instrument's own motion carried it across, not the tissue springing over it after the
+/// response), and no contact of this step involves an instrument triangle incident to it (it
+/// crossed the surface unseen: between detections, or too fast for the discrete test); or (b)
+/// its depth first exceeds the instrument's thickness (counted when it goes from ≤ thickness to
+/// > thickness).
 class Simulation {
  public:
   /// Takes the world; instruments are placed at their motion's t = 0 pose (at rest).
@@ -121,6 +124,10 @@ class Simulation {
   std::vector<ResponseSolver> solvers_;      ///< per (instrument, tissue) pair
   std::vector<InstrumentMetrics> instrument_metrics_;
   std::vector<std::unique_ptr<MeshDistance>> distances_;  ///< per tissue (null when open)
+  /// Per closed tissue: its positions before this step's deformation (the surface the
+  /// detection saw) and a MeshDistance refitted to them only when a tunneling candidate asks.
+  std::vector<std::vector<Vec3>> start_positions_;
+  std::vector<std::unique_ptr<MeshDistance>> start_distances_;
   /// Per (instrument, tissue) pair: last signed distance of each instrument vertex (m);
   /// +inf before the first measurement.
   std::vector<std::vector<Real>> previous_distance_;
