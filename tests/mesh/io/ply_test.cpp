@@ -175,11 +175,25 @@ TEST(PlyReader, FaceElementMayComeFirst) {
 }
 
 TEST(PlyReader, IntegerValuesAreRangeChecked) {
-  const std::string head = "ply\nformat ascii 1.0\nelement vertex 1\nproperty uchar x\nproperty float y\nproperty float z\n"
-                           "element face 0\nproperty list uchar int vertex_indices\nend_header\n";
-  EXPECT_EQ(ply(head + "255 0 0\n").positions[0], Vec3(255, 0, 0));
-  EXPECT_TRUE(ply_error(head + "256 0 0\n", line(10), "out of range for its type"));
-  EXPECT_TRUE(ply_error(head + "1.5 0 0\n", line(10), "bad integer"));
+  const std::string head = "ply\nformat ascii 1.0\nelement vertex 3\nproperty uchar x\nproperty float y\nproperty float z\n"
+                           "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  const std::string rest = "0 1 0\n0 0 1\n3 0 1 2\n";  // lines 11-13: two more vertices, one face
+  EXPECT_EQ(ply(head + "255 0 0\n" + rest).positions[0], Vec3(255, 0, 0));
+  EXPECT_TRUE(ply_error(head + "256 0 0\n" + rest, line(10), "out of range for its type"));
+  EXPECT_TRUE(ply_error(head + "1.5 0 0\n" + rest, line(10), "bad integer"));
+}
+
+TEST(PlyReader, APointCloudIsNotASurface) {
+  // Valid PLY with vertices and no faces: an error like the other readers' "no triangles".
+  const std::string cloud = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                            "property float z\nelement face 0\nproperty list uchar int vertex_indices\nend_header\n"
+                            "0 0 0\n1 0 0\n0 1 0\n";
+  EXPECT_THROW(ply(cloud), FileError);
+  try {
+    ply(cloud);
+  } catch (const FileError& e) {
+    EXPECT_NE(std::string(e.what()).find("no triangles"), std::string::npos) << e.what();
+  }
 }
 
 #if TROCAR_HAVE_ASSIMP

@@ -391,6 +391,9 @@ TriMesh read_body(const PlyHeader& header, Values& in, const std::string& name) 
       }
     }
   }
+  // A point cloud (or faces all under 3 corners) is valid PLY but not a surface: say so, as the
+  // other readers do, instead of returning an empty mesh.
+  if (mesh.triangles.empty()) throw FileError(name, FileLocation::none(), "no triangles (no face with 3 or more corners)");
   return mesh;
 }
 
