@@ -1,6 +1,6 @@
 #pragma once
 /// Mesh validation: counts every defect the readers, repair() and the simulator care about.
-/// The definitions follow /work/shared/data/meshes/SOURCES.md (see docs/mesh.md).
+/// The definitions follow the shared test meshes' SOURCES.md (see docs/mesh.md).
 #include <cstddef>
 #include <string>
 #include <vector>

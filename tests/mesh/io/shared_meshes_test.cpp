@@ -1,5 +1,5 @@
 // Every OBJ and STL file of the shared test meshes loads with the counts and bounding boxes of
-// /work/shared/data/meshes/SOURCES.md; where assimp is linked it serves as an independent oracle.
+// ../shared/data/meshes/SOURCES.md; where assimp is linked it serves as an independent oracle.
 // Skipped when the folder is absent (a clone without ../shared).
 #include <gtest/gtest.h>
 
