@@ -18,12 +18,7 @@ namespace trocar {
 namespace {
 
 TEST(CollisionAllocation, DetectAllocatesNothingAfterWarmUp) {
-  g_allocations = 0;
-  g_counting = true;
-  auto* probe = new std::vector<int>(10);
-  g_counting = false;
-  delete probe;
-  ASSERT_EQ(g_allocations.load(), 2);  // the counter works
+  ASSERT_EQ(test::probe_counted_allocations(), 2);  // the counting operator new is in use
 
   test::CuttingScene cut(make_icosphere(0.05, 4), make_capsule(0.004, 0.04, 12, 4), 0.006, 0.002, 0.001);
   cut.scene.add(test::translated(make_box(0.05, 0.05, 0.05), Vec3(0, 0, -0.06)), ObjectRole::kRigid);

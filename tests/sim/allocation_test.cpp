@@ -18,12 +18,7 @@ namespace trocar {
 namespace {
 
 TEST(SimulationAllocation, StepInContactAllocatesNothing) {
-  g_allocations = 0;
-  g_counting = true;
-  auto* probe = new std::vector<int>(10);
-  g_counting = false;
-  delete probe;
-  ASSERT_EQ(g_allocations.load(), 2);  // the counter works
+  ASSERT_EQ(test::probe_counted_allocations(), 2);  // the counting operator new is in use
 
   // Press in for 0.1 s, then hold; every step detects and measures penetration.
   Scene scene = test::probe_scene(0.04, 0.024, 0.1);

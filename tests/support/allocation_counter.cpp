@@ -2,6 +2,7 @@
 
 #include <cstdlib>
 #include <new>
+#include <vector>
 
 namespace trocar::test {
 
@@ -25,6 +26,16 @@ void* counted_allocate_nothrow(std::size_t size) noexcept {
 }
 
 }  // namespace
+
+long probe_counted_allocations() {
+  g_allocations = 0;
+  g_counting = true;
+  auto* probe = new std::vector<int>(10);
+  g_counting = false;
+  delete probe;
+  return g_allocations.load();
+}
+
 }  // namespace trocar::test
 
 void* operator new(std::size_t size) { return trocar::test::counted_allocate(size); }

@@ -11,4 +11,8 @@ extern std::atomic<bool> g_counting;
 /// The number of allocations counted so far (reset it by assigning 0).
 extern std::atomic<long> g_allocations;
 
+/// Allocations counted while making one std::vector<int>(10) through new: 2 (the vector
+/// object and its buffer) when the counting operator new is the one in use.
+long probe_counted_allocations();
+
 }  // namespace trocar::test

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "test_util.h"
 #include "trocar/mesh/io/mesh_io.h"
 
 #if TROCAR_HAVE_ASSIMP
@@ -24,23 +25,9 @@ namespace {
 
 TriMesh ply(const std::string& s) { return read_ply(s, "m.ply"); }
 
-/// Passes when reading `text` throws FileError whose message starts with "m.ply:LINE: " (line)
-/// or "m.ply: byte N: " (byte) and contains `reason`.
+/// Passes when reading `text` throws FileError naming m.ply, exactly `where`, and `reason`.
 ::testing::AssertionResult ply_error(const std::string& text, FileLocation where, const std::string& reason) {
-  try {
-    (void)read_ply(text, "m.ply");
-  } catch (const FileError& e) {
-    const std::string what = e.what();
-    std::string prefix = "m.ply: ";
-    if (where.kind == FileLocation::Kind::kLine) prefix = "m.ply:" + std::to_string(where.value) + ": ";
-    if (where.kind == FileLocation::Kind::kByte) prefix = "m.ply: byte " + std::to_string(where.value) + ": ";
-    if (what.rfind(prefix, 0) != 0 || what.find(reason) == std::string::npos || e.where().kind != where.kind)
-      return ::testing::AssertionFailure() << "message \"" << what << "\" lacks \"" << prefix << "\" or \"" << reason << "\"";
-    return ::testing::AssertionSuccess();
-  } catch (const std::exception& e) {
-    return ::testing::AssertionFailure() << "other exception: " << e.what();
-  }
-  return ::testing::AssertionFailure() << "no error";
+  return test::throws_file_error([&] { (void)read_ply(text, "m.ply"); }, "m.ply", where, reason);
 }
 
 FileLocation line(std::uint64_t l) { return FileLocation::line(l); }

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "test_util.h"
 #include "trocar/mesh/io/mesh_io.h"
 
 #if TROCAR_HAVE_COIN
@@ -29,20 +30,11 @@ const std::string kHead = "#VRML V2.0 utf8\n";
 
 TriMesh wrl(const std::string& body) { return read_vrml(kHead + body, "s.wrl"); }
 
-/// Passes when reading `text` (whole file) throws FileError naming s.wrl, the line, and `reason`.
+/// Passes when reading `text` (whole file) throws FileError naming s.wrl, the line (0: no
+/// location), and `reason`.
 ::testing::AssertionResult wrl_error(const std::string& text, std::uint64_t line, const std::string& reason) {
-  try {
-    (void)read_vrml(text, "s.wrl");
-  } catch (const FileError& e) {
-    const std::string what = e.what();
-    const std::string prefix = line ? "s.wrl:" + std::to_string(line) + ": " : "s.wrl: ";
-    if (what.rfind(prefix, 0) != 0 || what.find(reason) == std::string::npos)
-      return ::testing::AssertionFailure() << "message \"" << what << "\" lacks \"" << prefix << "\" or \"" << reason << "\"";
-    return ::testing::AssertionSuccess();
-  } catch (const std::exception& e) {
-    return ::testing::AssertionFailure() << "other exception: " << e.what();
-  }
-  return ::testing::AssertionFailure() << "no error";
+  return test::throws_file_error([&] { (void)read_vrml(text, "s.wrl"); }, "s.wrl",
+                                 line ? FileLocation::line(line) : FileLocation::none(), reason);
 }
 
 std::string read_file(const std::string& path) {

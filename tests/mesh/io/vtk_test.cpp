@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "test_util.h"
 #include "trocar/mesh/io/mesh_io.h"
 
 namespace trocar {
@@ -80,23 +81,9 @@ std::string write_vtk(const std::vector<Vec3>& points, const std::vector<std::ve
 
 TriMesh vtk(const std::string& s) { return read_vtk(s, "m.vtk"); }
 
-/// Passes when reading `text` throws FileError starting "m.vtk:LINE: " or "m.vtk: byte N: "
-/// and containing `reason`.
+/// Passes when reading `text` throws FileError naming m.vtk, exactly `where`, and `reason`.
 ::testing::AssertionResult vtk_error(const std::string& text, FileLocation where, const std::string& reason) {
-  try {
-    (void)read_vtk(text, "m.vtk");
-  } catch (const FileError& e) {
-    const std::string what = e.what();
-    std::string prefix = "m.vtk: ";
-    if (where.kind == FileLocation::Kind::kLine) prefix = "m.vtk:" + std::to_string(where.value) + ": ";
-    if (where.kind == FileLocation::Kind::kByte) prefix = "m.vtk: byte " + std::to_string(where.value) + ": ";
-    if (what.rfind(prefix, 0) != 0 || what.find(reason) == std::string::npos)
-      return ::testing::AssertionFailure() << "message \"" << what << "\" lacks \"" << prefix << "\" or \"" << reason << "\"";
-    return ::testing::AssertionSuccess();
-  } catch (const std::exception& e) {
-    return ::testing::AssertionFailure() << "other exception: " << e.what();
-  }
-  return ::testing::AssertionFailure() << "no error";
+  return test::throws_file_error([&] { (void)read_vtk(text, "m.vtk"); }, "m.vtk", where, reason);
 }
 
 FileLocation line(std::uint64_t l) { return FileLocation::line(l); }
