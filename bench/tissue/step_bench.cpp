@@ -22,7 +22,8 @@
 //    k_bending) + btDeformableGravityForce, same mesh, mass and fixed nodes; stepped with
 //    stepSimulation(dt, 0). Bullet's state is not reset (it keeps sagging and settling).
 //
-// Counters: ns_per_vertex (CPU ns per vertex per step), vertices, and for ours cg_iterations
+// Counters: ns_per_vertex (CPU ns per vertex per step), vertices, and for ours simd (1 when the
+// AVX2 passes ran; the -scalar row forces the portable ones), cg_iterations
 // (mean per step, implicit) and finite (1 when the state stayed finite).
 #include <benchmark/benchmark.h>
 
@@ -167,7 +168,7 @@ benchmark::Counter ns_per_vertex(std::size_t vertices) {
                             benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 
-void bm_ours(benchmark::State& bs, const Organ& organ, IntegratorKind kind) {
+void bm_ours(benchmark::State& bs, const Organ& organ, IntegratorKind kind, bool simd) {
   const TriMesh* mesh = organ_mesh(organ);
   if (mesh == nullptr) {
     bs.SkipWithError("shared mesh not available");
@@ -181,6 +182,7 @@ void bm_ours(benchmark::State& bs, const Organ& organ, IntegratorKind kind) {
   const MassSpringSettings settings = MassSpringSettings::build(*mesh, material, bottom_support(*mesh), kGravity);
   if (kind == IntegratorKind::kImplicitEuler) bs.counters["explicit_diverged"] = explicit_diverges(settings) ? 1 : 0;
   MassSpringIntegrator integrator(settings, kind);
+  integrator.set_simd(simd);
   TissueLoads loads;
   loads.reset(settings.vertex_count(), 0);
   const MassSpringState start = jittered(settings);
@@ -202,6 +204,7 @@ void bm_ours(benchmark::State& bs, const Organ& organ, IntegratorKind kind) {
     benchmark::DoNotOptimize(state.positions.data());
   }
   bs.counters["vertices"] = static_cast<double>(settings.vertex_count());
+  bs.counters["simd"] = integrator.simd() ? 1 : 0;
   bs.counters["ns_per_vertex"] = ns_per_vertex(settings.vertex_count());
   bs.counters["finite"] = finite ? 1 : 0;
   bs.counters["k_structural"] = material.k_structural;
@@ -332,7 +335,7 @@ void bm_bullet_deformable(benchmark::State& bs, const Organ& organ) {
 
 #endif  // TROCAR_HAVE_BULLET
 
-/// Registers every row: BM_Tissue/<organ>/<integrator>, BM_BulletSoftBody/<organ>,
+/// Registers every row: BM_Tissue/<organ>/<integrator> (and semi-implicit-euler-scalar), BM_BulletSoftBody/<organ>,
 /// BM_BulletDeformable/<organ>.
 bool register_all() {
   constexpr IntegratorKind kKinds[] = {IntegratorKind::kExplicitEuler, IntegratorKind::kSemiImplicitEuler,
@@ -347,9 +350,15 @@ bool register_all() {
     for (std::size_t k = 0; k < 3; ++k) {
       const IntegratorKind kind = kKinds[k];
       benchmark::RegisterBenchmark((std::string("BM_Tissue/") + organ.label + "/" + kKindNames[k]).c_str(),
-                                   [&organ, kind](benchmark::State& bs) { bm_ours(bs, organ, kind); })
+                                   [&organ, kind](benchmark::State& bs) { bm_ours(bs, organ, kind, true); })
           ->Unit(benchmark::kMicrosecond);
     }
+    // The portable scalar passes, for the speed-up of the AVX2 ones.
+    benchmark::RegisterBenchmark((std::string("BM_Tissue/") + organ.label + "/semi-implicit-euler-scalar").c_str(),
+                                 [&organ](benchmark::State& bs) {
+                                   bm_ours(bs, organ, IntegratorKind::kSemiImplicitEuler, false);
+                                 })
+        ->Unit(benchmark::kMicrosecond);
 #ifdef TROCAR_HAVE_BULLET
     benchmark::RegisterBenchmark((std::string("BM_BulletSoftBody/") + organ.label).c_str(),
                                  [&organ](benchmark::State& bs) { bm_bullet_softbody(bs, organ); })

@@ -149,6 +149,65 @@ TEST(Integrator, ImplicitStepSolvesTheBackwardEulerSystemOfForcesH) {
 
 // Undamped symplectic Euler: a 162-vertex sphere of springs, perturbed, 10⁴ steps of 50 µs.
 // Its energy error stays bounded (it conserves a nearby "shadow" energy) rather than drifting.
+// The explicit steps evaluate the forces in their own passes (padded layout, AVX2 where the CPU
+// has it). One step from a perturbed, moving state with every term on (springs with damping,
+// area, volume, home, global damping, gravity, external forces) must give what
+// accumulate_forces gives: v1 = v + h f/m, x1 = x + h v1 (semi-implicit) or x + h v (explicit),
+// to rounding, on both the AVX2 and the scalar path.
+TEST(Integrator, ExplicitStepsMatchAccumulateForces) {
+  MassSpringMaterial m = springs_only(0.05, 40, 4);
+  m.spring_damping = 0.01;
+  m.damping = 3;
+  m.k_area = 2;
+  m.k_volume = 500;
+  m.k_home = 5;
+  FixedSelection fixed;
+  fixed.below_plane = Plane{Vec3(0, 0, -0.015), Vec3(0, 0, 1)};
+  const MassSpringSettings s = MassSpringSettings::build(make_icosphere(0.02, 3), m, fixed, Vec3(0, 0, -9.81));
+  ASSERT_TRUE(s.closed);
+  MassSpringState start = MassSpringState::at_rest(s);
+  perturb(s, start, 1e-3);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<Real> u(-1, 1);
+  for (std::size_t i = 0; i < start.velocities.size(); ++i)
+    if (!s.fixed[i]) start.velocities[i] = 0.05 * Vec3(u(rng), u(rng), u(rng));
+  TissueLoads loads;
+  loads.reset(s.vertex_count());
+  for (std::size_t i = 0; i < s.vertex_count(); i += 7) loads.forces[i] = Vec3(0.01, -0.02, 0.005);
+
+  std::vector<Vec3> f(s.vertex_count(), Vec3::Zero());
+  accumulate_forces(s, start.positions, start.velocities, f);
+  const Real h = 1e-4;
+  Real largest_speed_change = 0;
+  for (std::size_t i = 0; i < f.size(); ++i)
+    if (!s.fixed[i]) largest_speed_change = std::max(largest_speed_change, (h * s.inverse_masses[i] * (f[i] + loads.forces[i])).norm());
+  ASSERT_GT(largest_speed_change, 1e-4);  // the forces are not negligible
+
+  for (IntegratorKind kind : {IntegratorKind::kExplicitEuler, IntegratorKind::kSemiImplicitEuler})
+    for (bool simd : {true, false}) {
+      MassSpringIntegrator integ(s, kind);
+      integ.set_simd(simd);
+      MassSpringState st = start;
+      for (int repeat = 0; repeat < 2; ++repeat) {  // twice: the scratch is reused cleanly
+        st = start;
+        ASSERT_TRUE(integ.step(st, loads, h).finite);
+      }
+      Real worst_v = 0, worst_x = 0;
+      for (std::size_t i = 0; i < f.size(); ++i) {
+        const Vec3 v0 = start.velocities[i], x0 = start.positions[i];
+        const Vec3 v1 = s.fixed[i] ? Vec3::Zero() : Vec3(v0 + h * s.inverse_masses[i] * (f[i] + loads.forces[i]));
+        const Vec3 x1 = s.fixed[i] ? x0 : Vec3(x0 + h * (kind == IntegratorKind::kSemiImplicitEuler ? v1 : v0));
+        worst_v = std::max(worst_v, (st.velocities[i] - v1).norm());
+        worst_x = std::max(worst_x, (st.positions[i] - x1).norm());
+      }
+      std::cout << "[ figures  ] " << integrator_name(kind) << (integ.simd() ? " (AVX2)" : " (scalar)")
+                << ": |Δv| vs accumulate_forces " << worst_v << " m/s (speed changes up to " << largest_speed_change
+                << "), |Δx| " << worst_x << " m\n";
+      EXPECT_LT(worst_v, 1e-12 * largest_speed_change);
+      EXPECT_LT(worst_x, 1e-15);
+    }
+}
+
 TEST(Integrator, SemiImplicitUndampedConservesEnergy) {
   const MassSpringSettings s = MassSpringSettings::build(make_icosphere(0.05, 2), springs_only(0.1, 100, 10));
   MassSpringState st = MassSpringState::at_rest(s);
@@ -414,7 +473,9 @@ TEST(Integrator, StiffPenaltyContactOnLightVertexStableOnlyImplicitly) {
       EXPECT_LT(final_speed, 1e-4);
       EXPECT_LT(std::abs(st.positions[top].z() - 0.018), 0.001);
     } else {
-      EXPECT_TRUE(!finite || max_speed > 10) << integrator_name(kind);  // tens of m/s: diverged
+      // Diverged: non-finite, or flung off at metres per second (over 100× the instrument's 1 cm/s;
+      // the one-sided contact lets the vertex escape, so how far it gets depends on rounding).
+      EXPECT_TRUE(!finite || max_speed > 1) << integrator_name(kind);
     }
   }
 }

@@ -12,6 +12,8 @@
 // Every loop reads the flat arrays once and writes through raw pointers; none allocates.
 #include "trocar/tissue/forces.h"
 
+#include "trocar/tissue/explicit_kernels.h"
+
 #include <algorithm>
 #include <cassert>
 #include <cmath>
@@ -51,6 +53,13 @@ inline void subtract_from(Vec3& f, const P3& a) {
   f[0] -= a.x;
   f[1] -= a.y;
   f[2] -= a.z;
+}
+// The same into the explicit integrators' padded force layout.
+using tissue_detail::Padded3;
+inline void add_to(Padded3& f, const P3& a) {
+  f.x += a.x;
+  f.y += a.y;
+  f.z += a.z;
 }
 
 bool area_active(const MassSpringSettings& s, const ForceTerms& t) {
@@ -172,7 +181,8 @@ inline TriangleGeometry triangle_geometry(const Triangle& tri, const Vec3* x) {
 // the liver than separate passes (measured with g++ 12 -O3, SSE2).
 
 /// Area forces f_a += −κ (A − A0) ∂A/∂x_a over all triangles.
-[[gnu::noinline]] void area_forces(const MassSpringSettings& s, const Vec3* x, Vec3* f) {
+template <class Force>
+[[gnu::noinline]] void area_forces(const MassSpringSettings& s, const Vec3* x, Force* f) {
   const Triangle* tris = s.triangles.data();
   const Real* rest = s.rest_areas.data();
   const std::size_t nt = s.triangles.size();
@@ -261,6 +271,12 @@ void triangle_stiffness_product(const MassSpringSettings& s, const Vec3* x, cons
 }
 
 }  // namespace
+
+namespace tissue_detail {
+void add_area_forces(const MassSpringSettings& s, const Vec3* x, Padded3* f) {
+  if (s.k_area > 0 && s.mean_rest_area > 0 && s.rest_areas.size() == s.triangles.size()) area_forces(s, x, f);
+}
+}  // namespace tissue_detail
 
 void accumulate_forces(const MassSpringSettings& s, std::span<const Vec3> x, std::span<const Vec3> v,
                        std::span<Vec3> forces, const ForceTerms& terms) {

@@ -40,7 +40,17 @@ MassSpringIntegrator::MassSpringIntegrator(const MassSpringSettings& settings, I
   }
   fixed_positions_.assign(fixed_indices_.size(), Vec3::Zero());
   volume_gradient_.assign(n, Vec3::Zero());
-  if (kind != IntegratorKind::kImplicitEuler) return;
+  use_avx2_ = tissue_detail::cpu_has_avx2_fma();
+  if (kind != IntegratorKind::kImplicitEuler) {
+    pair_forces_.assign(n, tissue_detail::Padded3{});
+    padded_volume_gradient_.assign(n, tissue_detail::Padded3{});
+    padded_positions_.assign(n, tissue_detail::Padded3{});
+    padded_velocities_.assign(n, tissue_detail::Padded3{});
+    padded_rest_.assign(n, tissue_detail::Padded3{});
+    tissue_detail::copy_padded(settings.rest_positions.data(), n, padded_rest_.data());
+    spring_quads_ = tissue_detail::make_spring_quads(settings.springs);
+    return;
+  }
 
   dv_.assign(n, Vec3::Zero());
   residual_.assign(n, Vec3::Zero());
@@ -78,78 +88,49 @@ void MassSpringIntegrator::end_step(MassSpringState& state) const {
 /// Explicit Euler (the seed's):       x₁ = x₀ + h v₀,  v₁ = v₀ + h M⁻¹ f(x₀, v₀).
 /// Semi-implicit (symplectic) Euler:  v₁ = v₀ + h M⁻¹ f(x₀, v₀),  x₁ = x₀ + h v₁.
 /// External forces (and contact penalties) enter f as plain forces; contact Jacobians are
-/// ignored. The forces are those of accumulate_forces, evaluated in fewer passes: the springs
-/// and the area term through accumulate_forces; the volume term as one triangle pass that sums
-/// V and Σ_{t∋i} n_t per vertex; and the per-vertex terms (gravity, global damping, home
-/// springs, the volume pressure) inside the update pass itself. Without the volume term the
-/// forces are bit for bit accumulate_forces' (the same additions in the same order).
+/// ignored. The forces are accumulate_forces', evaluated in three passes (explicit_kernels.h):
+/// springs and area into a padded force array; the volume term as one triangle pass that sums
+/// V and Σ_{t∋i} n_t per vertex; and the per-vertex terms (external forces, gravity, global
+/// damping, home springs, the volume pressure) inside the update pass. The arithmetic order
+/// differs from accumulate_forces' (and the AVX2 code uses FMA), so the two agree to rounding.
 StepStats MassSpringIntegrator::step_explicit(MassSpringState& state, const TissueLoads& loads, Real dt,
                                               bool symplectic) {
+  using namespace tissue_detail;
   const MassSpringSettings& s = settings_;
   for (std::size_t k = 0; k < fixed_indices_.size(); ++k) {
     fixed_positions_[k] = state.positions[fixed_indices_[k]];
     state.velocities[fixed_indices_[k]].setZero();
   }
-  // The external forces start the sum (or zero when the caller sized no force array), in the
-  // order accumulate_forces would add the rest, so that the rounding is the same.
-  if (loads.forces.size() == forces_.size())
-    std::copy(loads.forces.begin(), loads.forces.end(), forces_.begin());
-  else
-    std::fill(forces_.begin(), forces_.end(), Vec3::Zero());
-  ForceTerms pair_terms = terms_;  // springs and area only
-  pair_terms.volume = pair_terms.home = pair_terms.global_damping = pair_terms.gravity = false;
-  accumulate_forces(s, state.positions, state.velocities, forces_, pair_terms);
-
   Vec3* x = state.positions.data();
   Vec3* v = state.velocities.data();
-  const std::size_t n = forces_.size();
+  const std::size_t n = s.vertex_count();
+  copy_padded(x, n, padded_positions_.data());
+  copy_padded(v, n, padded_velocities_.data());
+  if (terms_.springs) add_spring_forces(spring_quads_, padded_positions_.data(), padded_velocities_.data(),
+                                        pair_forces_.data(), use_avx2_);
+  if (terms_.area) add_area_forces(s, x, pair_forces_.data());
+
+  UpdateInputs in;
+  in.x = padded_positions_.data();
+  in.v = padded_velocities_.data();
+  in.rest = padded_rest_.data();
+  in.pair = pair_forces_.data();
+  in.external = loads.forces.size() == n ? loads.forces.data() : nullptr;
   // Volume: 6V = Σ (a − o)·n_t about o = the first triangle's first vertex (as forces.cpp), and
   // 6 ∂V/∂x_i = Σ_{t∋i} n_t; the pressure force is −κ_V (V − V0) ∂V/∂x_i.
-  const bool volume = terms_.volume && s.closed && s.k_volume > 0 && s.rest_volume > 0 && !s.triangles.empty();
-  Real pressure6 = 0;  // −κ_V (V − V0)/6
-  if (volume) {
-    Vec3* g = volume_gradient_.data();
-    std::fill(volume_gradient_.begin(), volume_gradient_.end(), Vec3::Zero());
-    const Vec3 origin = x[s.triangles.front()[0]];
-    Real six_v = 0;
-    for (const Triangle& t : s.triangles) {
-      const Real a0 = x[t[0]][0], a1 = x[t[0]][1], a2 = x[t[0]][2];
-      const Real e0 = x[t[1]][0] - a0, e1 = x[t[1]][1] - a1, e2 = x[t[1]][2] - a2;
-      const Real f0 = x[t[2]][0] - a0, f1 = x[t[2]][1] - a1, f2 = x[t[2]][2] - a2;
-      const Real n0 = e1 * f2 - e2 * f1, n1 = e2 * f0 - e0 * f2, n2 = e0 * f1 - e1 * f0;
-      six_v += (a0 - origin[0]) * n0 + (a1 - origin[1]) * n1 + (a2 - origin[2]) * n2;
-      for (int k = 0; k < 3; ++k) {
-        Vec3& gk = g[t[k]];
-        gk[0] += n0;
-        gk[1] += n1;
-        gk[2] += n2;
-      }
-    }
-    pressure6 = -s.k_volume / s.rest_volume * (six_v / 6.0 - s.rest_volume) / 6.0;
+  if (terms_.volume && s.closed && s.k_volume > 0 && s.rest_volume > 0 && !s.triangles.empty()) {
+    const Real six_v = add_volume_gradient(s, padded_positions_.data(), padded_volume_gradient_.data(), use_avx2_);
+    in.gradient = padded_volume_gradient_.data();
+    in.pressure6 = -s.k_volume / s.rest_volume * (six_v / 6.0 - s.rest_volume) / 6.0;
   }
-
-  const Real k_home = terms_.home ? s.k_home : 0.0;
-  const Real gamma = terms_.global_damping ? s.damping : 0.0;
-  const Vec3 gravity = terms_.gravity ? s.gravity : Vec3::Zero();
-  const Vec3* x0 = s.rest_positions.data();
-  const Real* mass = s.masses.data();
-  const Real* inverse_mass = s.inverse_masses.data();
-  const Vec3* gv = volume ? volume_gradient_.data() : nullptr;
-  const Vec3* fp = forces_.data();
+  in.k_home = terms_.home ? s.k_home : 0.0;
+  in.gamma = terms_.global_damping ? s.damping : 0.0;
+  in.gravity = terms_.gravity ? s.gravity : Vec3::Zero();
+  in.dt = dt;
+  in.symplectic = symplectic;
   // Σ of every coordinate: NaN or ±inf there iff some coordinate is non-finite (or the sum of
   // finite ones overflows, beyond any physical scale), checked once per step.
-  Real check = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const Vec3 xi = x[i], vi = v[i];
-    Vec3 f = fp[i];
-    if (gv != nullptr) f += pressure6 * gv[i];
-    f += mass[i] * (gravity - gamma * vi) - k_home * (xi - x0[i]);
-    const Vec3 v1 = vi + (dt * inverse_mass[i]) * f;
-    const Vec3 x1 = xi + dt * (symplectic ? v1 : vi);
-    v[i] = v1;
-    x[i] = x1;
-    check += x1.sum() + v1.sum();
-  }
+  const Real check = explicit_update(s, x, v, in, use_avx2_);
   end_step(state);
   StepStats stats;
   stats.finite = std::isfinite(check);

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "trocar/core/types.h"
+#include "trocar/tissue/explicit_kernels.h"
 #include "trocar/tissue/forces.h"
 #include "trocar/tissue/settings.h"
 #include "trocar/tissue/state.h"
@@ -52,6 +53,10 @@ class MassSpringIntegrator {
   IntegratorKind kind() const { return kind_; }
   const MassSpringSettings& settings() const { return settings_; }
   ForceTerms& terms() { return terms_; }  ///< which force terms are on (all by default)
+  /// Whether the AVX2+FMA passes run (default: when the CPU has them). Off forces the portable
+  /// scalar passes, e.g. to compare the two; on is ignored where the CPU lacks AVX2/FMA.
+  void set_simd(bool on) { use_avx2_ = on && tissue_detail::cpu_has_avx2_fma(); }
+  bool simd() const { return use_avx2_; }
 
  private:
   StepStats step_explicit(MassSpringState& state, const TissueLoads& loads, Real dt, bool symplectic);
@@ -92,6 +97,13 @@ class MassSpringIntegrator {
   // Implicit: dv_ is Δv (kept between steps: the next solve starts from it), residual_ the CG
   // residual r, direction_ the direction p, product_ A·p, scratch_ the preconditioned z.
   std::vector<Vec3> forces_, dv_, residual_, direction_, product_, scratch_;
+  // Explicit: spring and area forces, and Σ n_t per vertex, padded for the AVX2 passes; both
+  // are all zero between steps (the update pass zeroes what it reads).
+  std::vector<tissue_detail::Padded3> pair_forces_, padded_volume_gradient_;
+  std::vector<tissue_detail::Padded3> padded_positions_, padded_velocities_;  ///< copies of the state
+  std::vector<tissue_detail::Padded3> padded_rest_;  ///< the rest positions
+  std::vector<tissue_detail::SpringQuad> spring_quads_;  ///< the springs, four by four
+  bool use_avx2_ = false;  ///< the CPU has AVX2 + FMA (explicit_kernels.h)
   std::vector<Sym3> preconditioner_;     ///< block Jacobi: (A_ii)⁻¹ per vertex (0 at fixed)
   std::vector<Real> diagonal_mass_;      ///< m_i (1 + hγ) + h² k_home, for this step's h
   std::vector<Vec3> volume_gradient_;    ///< ∇V at this step's positions (m²)

@@ -1,0 +1,76 @@
+#pragma once
+/// The explicit integrators' hot passes over a padded layout, with an AVX2+FMA version chosen
+/// at run time (the library is built for baseline x86-64; the AVX2 code is compiled per
+/// function and only runs where the CPU has it). Internal to the tissue module.
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "trocar/core/types.h"
+#include "trocar/tissue/settings.h"
+
+namespace trocar::tissue_detail {
+
+/// A 3-vector padded to 32 bytes (w stays 0), so it loads, and a force accumulates, with one
+/// aligned 256-bit access instead of three scalar ones.
+struct alignas(32) Padded3 {
+  Real x = 0, y = 0, z = 0, w = 0;
+};
+
+/// Four springs' data lane by lane (structure of arrays), so the AVX2 pass loads each parameter
+/// of four springs at once. 128 bytes, the size of four Spring records. The endpoints are byte
+/// offsets into a Padded3 array (index × 32), so addressing needs no shift.
+struct alignas(32) SpringQuad {
+  std::uint32_t i[4] = {};  ///< first vertex × sizeof(Padded3)
+  std::uint32_t j[4] = {};  ///< second vertex × sizeof(Padded3)
+  Real rest_length[4] = {};
+  Real stiffness[4] = {};
+  Real damping[4] = {};
+};
+
+/// The springs in quads, in order; the last quad is completed with null springs (vertex 0 to
+/// itself, k = λ = 0), which add exactly zero.
+std::vector<SpringQuad> make_spring_quads(const std::vector<Spring>& springs);
+
+/// True when the running CPU has AVX2 and FMA (checked once).
+bool cpu_has_avx2_fma();
+
+/// out_i = (p_i, 0) for n vectors.
+void copy_padded(const Vec3* p, std::size_t n, Padded3* out);
+
+/// f_i += the spring forces on i (eq. 3.2; forces.cpp's spring_forces) at positions x and
+/// velocities v (padded copies of the state).
+void add_spring_forces(const std::vector<SpringQuad>& quads, const Padded3* x, const Padded3* v, Padded3* f,
+                       bool use_avx2);
+
+/// forces.cpp's scalar area pass into the padded layout (nothing when the area term is off).
+void add_area_forces(const MassSpringSettings& s, const Vec3* x, Padded3* f);
+
+/// g_i += Σ_{t∋i} n_t with n_t = (b − a) × (c − a) (= 6 ∂V/∂x_i), and returns 6V about the
+/// first triangle's first vertex (forces.cpp's volume_of).
+Real add_volume_gradient(const MassSpringSettings& s, const Padded3* x, Padded3* g, bool use_avx2);
+
+/// The per-vertex update of one explicit step, with the per-vertex forces folded in:
+///   f = f_pair + f_ext + pressure6 · g + m (gravity − γ v) − k_home (x − x0),
+///   v₁ = v + h f / m,  x₁ = x + h (symplectic ? v₁ : v).
+/// Reads and then zeroes `pair` (and `gradient` when not null), so both are zero again for the
+/// next step without a separate clearing pass.
+struct UpdateInputs {
+  const Padded3* x = nullptr;       ///< positions at the start of the step (padded copy)
+  const Padded3* v = nullptr;       ///< velocities at the start of the step (padded copy)
+  const Padded3* rest = nullptr;    ///< rest positions x0 (padded)
+  Padded3* pair = nullptr;          ///< spring and area forces (zeroed on return)
+  Padded3* gradient = nullptr;      ///< Σ n_t per vertex, or null (zeroed on return)
+  const Vec3* external = nullptr;   ///< external forces, or null
+  Real pressure6 = 0;               ///< −κ_V (V − V0)/6
+  Vec3 gravity = Vec3::Zero();
+  Real gamma = 0;                   ///< global damping γ (1/s)
+  Real k_home = 0;                  ///< N/m
+  Real dt = 0;
+  bool symplectic = true;
+};
+/// Writes x₁, v₁ into x, v (the state in.x, in.v were copied from); returns Σ of every coordinate of x₁ and v₁ (non-finite iff some
+/// coordinate is).
+Real explicit_update(const MassSpringSettings& s, Vec3* x, Vec3* v, const UpdateInputs& in, bool use_avx2);
+
+}  // namespace trocar::tissue_detail
