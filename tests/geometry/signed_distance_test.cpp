@@ -3,7 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 #include <random>
+#include <utility>
+#include <vector>
 
 #include "trocar/mesh/generate.h"
 #include "trocar/core/error.h"
@@ -138,6 +141,71 @@ TEST(MeshDistance, TreeQueryEqualsBruteForceAndSurvivesRefit) {
   // Points along the stretched x axis: inside up to x ≈ 1.6 (the bump is 0 at y = 0).
   EXPECT_LT(md.signed_distance(Vec3(1.5, 0, 0)).distance, 0);
   EXPECT_GT(md.signed_distance(Vec3(1.7, 0, 0)).distance, 0);
+}
+
+// The stretched, bumped icosphere of the refit test: closed, no symmetry left to hide errors.
+TriMesh bumped_sphere() {
+  auto sphere = sphere_mesh(3, 1.0);
+  for (Vec3& p : sphere.positions) {
+    p = Vec3(1.6 * p.x(), p.y(), 0.7 * p.z()) * (1.0 + 0.2 * std::sin(3 * p.x()) * p.y());
+  }
+  return sphere;
+}
+
+Vec3 unit_or_zero(const Vec3& v) { return v.norm() > 0 ? Vec3(v / v.norm()) : Vec3::Zero(); }
+
+// MeshDistance computes pseudonormals on demand; they must be the very bits of the classic
+// sweep that accumulates Σ α·n (vertices) and Σ n (edges) over all triangles in order.
+TEST(MeshDistance, OnDemandPseudonormalsEqualTheSweepOverAllTriangles) {
+  const TriMesh mesh = bumped_sphere();
+  MeshDistance md(sphere_mesh(3, 1.0).positions, mesh.triangles);
+  md.refit(mesh.positions);  // also checks that refit() leaves nothing stale
+  std::vector<Vec3> vertex(mesh.positions.size(), Vec3::Zero());
+  std::map<std::pair<std::uint32_t, std::uint32_t>, Vec3> edge;
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const Triangle& tri = mesh.triangles[t];
+    const Vec3& a = mesh.positions[tri[0]];
+    const Vec3 n = unit_or_zero((mesh.positions[tri[1]] - a).cross(mesh.positions[tri[2]] - a));
+    ASSERT_EQ(md.face_normal(static_cast<std::uint32_t>(t)), n);
+    for (std::size_t k = 0; k < 3; ++k) {
+      const Vec3& p = mesh.positions[tri[k]];
+      const Vec3 u = mesh.positions[tri[(k + 1) % 3]] - p;
+      const Vec3 v = mesh.positions[tri[(k + 2) % 3]] - p;
+      vertex[tri[k]] += std::atan2(u.cross(v).norm(), u.dot(v)) * n;
+      const std::uint32_t b = tri[(k + 1) % 3];
+      edge.try_emplace({std::min(tri[k], b), std::max(tri[k], b)}, Vec3::Zero()).first->second += n;
+    }
+  }
+  for (std::size_t v = 0; v < vertex.size(); ++v) {
+    ASSERT_EQ(md.vertex_pseudonormal(static_cast<std::uint32_t>(v)), unit_or_zero(vertex[v])) << v;
+  }
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t a = mesh.triangles[t][static_cast<std::size_t>(k)];
+      const std::uint32_t b = mesh.triangles[t][static_cast<std::size_t>((k + 1) % 3)];
+      ASSERT_EQ(md.edge_pseudonormal(static_cast<std::uint32_t>(t), k),
+                unit_or_zero(edge.at({std::min(a, b), std::max(a, b)})));
+    }
+  }
+  EXPECT_EQ(md.edge_count(), edge.size());
+}
+
+// A hint (any triangle, near or far, or none) changes the work, never the distance.
+TEST(MeshDistance, HintedQueriesGiveTheSameDistance) {
+  const TriMesh mesh = bumped_sphere();
+  const MeshDistance md(mesh.positions, mesh.triangles);
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<Real> u(-2, 2);
+  std::uint32_t previous = MeshDistance::kNoTriangle;
+  for (int i = 0; i < 3000; ++i) {
+    const Vec3 p(u(rng), u(rng), u(rng));
+    const SignedDistanceResult plain = md.signed_distance(p);
+    const auto random = static_cast<std::uint32_t>(rng() % mesh.triangles.size());
+    for (const std::uint32_t hint : {plain.triangle, random, previous, MeshDistance::kNoTriangle}) {
+      ASSERT_EQ(md.signed_distance(p, hint).distance, plain.distance) << p.transpose();
+    }
+    previous = plain.triangle;
+  }
 }
 
 TEST(MeshDistance, RejectsBadInputAndHandlesEmptyMeshes) {
