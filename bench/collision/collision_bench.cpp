@@ -121,6 +121,12 @@ void bm_collision(benchmark::State& state, SceneId id, PeerKind kind) {
     state.counters["candidates"] = static_cast<double>(detector->timings().candidate_pairs);
     state.counters["broad_us"] = detector->timings().broad_phase_us;
     state.counters["narrow_us"] = detector->timings().narrow_phase_us;
+    if (const OhcStats* ohc = detector->ohc_stats()) {
+      state.counters["hashed"] = ohc->primitives_hashed;
+      state.counters["entries"] = static_cast<double>(ohc->entries);
+      state.counters["clusters"] = ohc->clusters_opened;
+      state.counters["cl_pairs"] = ohc->cluster_pairs;
+    }
   }
 }
 
