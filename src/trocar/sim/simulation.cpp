@@ -14,6 +14,9 @@ namespace {
 
 constexpr Real kUnknown = std::numeric_limits<Real>::quiet_NaN();     ///< no measurement yet
 constexpr Real kOutside = std::numeric_limits<Real>::infinity();      ///< outside the tissue's box
+/// Growth of a tissue's bounding box before it decides that a vertex is outside the tissue (m):
+/// far above the rounding of a signed distance (~1e-17 m at organ scale), far below a contact.
+constexpr Real kBoxSlack = 1e-9;
 
 CollisionDetector make_detector(const SimulationSettings& s) {
   if (s.broad_phase == BroadPhaseKind::kOhc) {
@@ -76,11 +79,15 @@ Simulation::Simulation(World world, const SimulationSettings& settings)
         start_positions_[t] = world_.tissues[t]->state.positions;
       }
   previous_distance_.resize(ni * nt);
+  nearest_triangle_.resize(ni * nt);
   touched_.resize(ni);
   for (std::size_t i = 0; i < ni; ++i) {
     const std::size_t nv = world_.instruments[i].instrument.world_positions().size();
     touched_[i].assign(nv, 0);
-    for (std::size_t t = 0; t < nt; ++t) previous_distance_[i * nt + t].assign(nv, kUnknown);
+    for (std::size_t t = 0; t < nt; ++t) {
+      previous_distance_[i * nt + t].assign(nv, kUnknown);
+      nearest_triangle_[i * nt + t].assign(nv, MeshDistance::kNoTriangle);
+    }
   }
   contacts_.reserve(1024);
 }
@@ -200,6 +207,8 @@ void Simulation::measure() {
     if (!distances_[t]) continue;
     const TissueBody& tissue = *world_.tissues[t];
     const Aabb tissue_box = Aabb::of_points(tissue.state.positions);
+    // A point outside the box of a closed surface's vertices is outside the surface.
+    const Aabb inside_box = tissue_box.inflated(kBoxSlack);
     bool refitted = false;
     bool start_refitted = false;
     for (std::size_t i = 0; i < ni; ++i) {
@@ -223,8 +232,14 @@ void Simulation::measure() {
         if (c.kind != ContactKind::kInstrumentTissue || c.object_a != i || c.object_b != ni + t) continue;
         for (std::uint32_t v : body.instrument.triangles()[c.triangle_a]) touched[v] = 1;
       }
+      std::vector<std::uint32_t>& nearest = nearest_triangle_[i * nt + t];
       for (std::size_t v = 0; v < points.size(); ++v) {
-        const Real d = box.contains(points[v]) ? distances_[t]->signed_distance(points[v]).distance : kOutside;
+        Real d = kOutside;
+        if (inside_box.contains(points[v])) {
+          const SignedDistanceResult r = distances_[t]->signed_distance(points[v], nearest[v]);
+          d = r.distance;
+          nearest[v] = r.triangle;
+        }
         const Real prev = previous[v];
         if (d < 0) {
           ++metrics_.vertices_inside;

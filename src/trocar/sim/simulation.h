@@ -73,9 +73,12 @@ struct StepMetrics {
 /// contact count stays within what the detector has already held).
 ///
 /// Metrics (DESIGN.md §6). Penetration: for each instrument and each closed tissue whose
-/// bounding box (inflated by the instrument's thickness) holds some instrument vertices, the
+/// bounding box (inflated by the instrument's thickness) meets the instrument's box, the
 /// tissue's MeshDistance is refitted to the deformed positions once per step and every
-/// instrument vertex inside the box is queried; depth = max(0, −signed distance). Open tissues
+/// instrument vertex inside the tissue's own box (grown by kBoxSlack against rounding) is
+/// queried, seeded with the triangle that vertex was nearest to last time; a vertex outside that
+/// box is outside the tissue (its distance is recorded as +inf: only the sign of an outside
+/// vertex's distance enters the metrics). depth = max(0, −signed distance). Open tissues
 /// (sheets) have no inside and are not measured. Tunneling, per instrument vertex and tissue:
 /// (a) the vertex was outside at the end of the previous step, is inside now, is inside the
 /// surface as it stood when this step's detection ran (before this step's deformation: the
@@ -129,8 +132,11 @@ class Simulation {
   std::vector<std::vector<Vec3>> start_positions_;
   std::vector<std::unique_ptr<MeshDistance>> start_distances_;
   /// Per (instrument, tissue) pair: last signed distance of each instrument vertex (m);
-  /// +inf before the first measurement.
+  /// NaN before the first measurement, +inf outside the tissue's box.
   std::vector<std::vector<Real>> previous_distance_;
+  /// Per (instrument, tissue) pair: the tissue triangle each instrument vertex was last nearest
+  /// to (MeshDistance::kNoTriangle if none), the seed of its next query.
+  std::vector<std::vector<std::uint32_t>> nearest_triangle_;
   std::vector<std::vector<std::uint8_t>> touched_;  ///< per instrument: vertex in a contact now
   StepMetrics metrics_;
   Real time_ = 0;
