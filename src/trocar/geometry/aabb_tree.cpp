@@ -56,17 +56,23 @@ void AabbTree::refit(std::span<const Aabb> item_boxes) {
     throw Error("AabbTree::refit: got " + std::to_string(item_boxes.size()) +
                 " item boxes, but the tree was built over " + std::to_string(items_.size()));
   }
-  // Children are stored after their parent, so a reverse sweep sees children first.
+  // Children are stored after their parent, so a reverse sweep sees children first. A node's
+  // box starts from its first item or child instead of the empty box (one merge fewer).
   for (std::size_t k = nodes_.size(); k-- > 0;) {
     Node& n = nodes_[k];
-    Aabb box;
     if (n.count > 0) {
-      for (std::uint32_t i = n.first; i < n.first + n.count; ++i) box.expand(item_boxes[items_[i]]);
+      Vec3 lo = item_boxes[items_[n.first]].min;
+      Vec3 hi = item_boxes[items_[n.first]].max;
+      for (std::uint32_t i = n.first + 1; i < n.first + n.count; ++i) {
+        lo = lo.cwiseMin(item_boxes[items_[i]].min);
+        hi = hi.cwiseMax(item_boxes[items_[i]].max);
+      }
+      n.box = Aabb{lo, hi};
     } else {
-      box = nodes_[n.first].box;
-      box.expand(nodes_[n.first + 1].box);
+      const Aabb& l = nodes_[n.first].box;
+      const Aabb& r = nodes_[n.first + 1].box;
+      n.box = Aabb{l.min.cwiseMin(r.min), l.max.cwiseMax(r.max)};
     }
-    n.box = box;
   }
 }
 

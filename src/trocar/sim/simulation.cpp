@@ -37,6 +37,11 @@ void hash_real(std::uint64_t& h, Real x) {
   }
 }
 
+/// True when a and b hold the same vertices, bit for bit.
+bool same_bits(std::span<const Vec3> a, std::span<const Vec3> b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size_bytes()) == 0;
+}
+
 void hash_vec(std::uint64_t& h, const Vec3& v) {
   for (int k = 0; k < 3; ++k) hash_real(h, v[k]);
 }
@@ -221,6 +226,9 @@ void Simulation::measure() {
         continue;
       }
       if (!refitted) {
+        // The surface of the last refit, normally this step's start surface, becomes the
+        // tunneling check's MeshDistance: most steps with candidates then need no second refit.
+        std::swap(distances_[t], start_distances_[t]);
         distances_[t]->refit(tissue.state.positions);
         refitted = true;
       }
@@ -250,10 +258,11 @@ void Simulation::measure() {
             // detection saw it? Otherwise the tissue moved over it after the response (a
             // spring-back onto the tool, answered by the next detection), not a miss.
             if (!start_refitted) {
-              start_distances_[t]->refit(start_positions_[t]);
+              if (!same_bits(start_distances_[t]->positions(), start_positions_[t]))
+                start_distances_[t]->refit(start_positions_[t]);
               start_refitted = true;
             }
-            crossed = start_distances_[t]->signed_distance(points[v]).distance < 0;
+            crossed = start_distances_[t]->signed_distance(points[v], nearest[v]).distance < 0;
           }
           if (crossed) {
             ++metrics_.tunneling_events;  // (a) crossed the surface with no contact seen

@@ -128,7 +128,10 @@ class Simulation {
   std::vector<InstrumentMetrics> instrument_metrics_;
   std::vector<std::unique_ptr<MeshDistance>> distances_;  ///< per tissue (null when open)
   /// Per closed tissue: its positions before this step's deformation (the surface the
-  /// detection saw) and a MeshDistance refitted to them only when a tunneling candidate asks.
+  /// detection saw) and a MeshDistance for them, used only when a tunneling candidate asks. The
+  /// two MeshDistances swap at each refit, so this one holds the previous refit's surface; it
+  /// is refitted only when that is not bit-identical to start_positions_ (e.g. after a step
+  /// without measurement, or positions changed between steps).
   std::vector<std::vector<Vec3>> start_positions_;
   std::vector<std::unique_ptr<MeshDistance>> start_distances_;
   /// Per (instrument, tissue) pair: last signed distance of each instrument vertex (m);
