@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 #include "trocar/geometry/triangle_triangle.h"
@@ -14,40 +15,51 @@ namespace {
 // margins below are orders of magnitude wider than the test's tolerance (kTriTriTolerance = 1e-12
 // of the pair's size L) and than its rounding errors.
 
-// A triangle's plane with the unnormalised normal n = (q1 − q0) × (q2 − q0) (no square root)
-// and the signed distances (× |n|) of the other triangle's corners p0..p2 to it.
-struct PlaneDistances {
+// A triangle's plane: the unnormalised normal n = (q1 − q0) × (q2 − q0) (no square root), |n|²,
+// and whether the triangle is well shaped (not a sliver: |n|² > 1e-6·(longest edge)⁴). Computed
+// once per run of candidates that share the triangle (the broad phases emit a triangle's
+// partners one after another), from differences of the triangle's own corners, so its rounding
+// follows the triangle's size, not its distance from the origin.
+struct TrianglePlane {
+  std::uint64_t key = ~std::uint64_t{0};  // (object << 32) | triangle; none yet
+  Vec3 q0;
   Vec3 n;
-  Real n2 = 0;        // |n|²
-  Real d[3] = {0, 0, 0};
-  bool well_shaped = false;  // not a sliver: |n|² > 1e-6·(longest edge)⁴
+  Real n2 = 0;
+  bool well_shaped = false;
 };
 
-PlaneDistances plane_distances(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& q0, const Vec3& q1,
-                               const Vec3& q2) {
-  PlaneDistances r;
+const TrianglePlane& plane_of(TrianglePlane& cache, std::uint32_t object, std::uint32_t triangle, const Vec3& q0,
+                              const Vec3& q1, const Vec3& q2) {
+  const std::uint64_t key = (std::uint64_t{object} << 32) | triangle;
+  if (cache.key == key) return cache;
+  cache.key = key;
   const Vec3 e1 = q1 - q0;
   const Vec3 e2 = q2 - q0;
-  r.n = e1.cross(e2);
-  r.n2 = r.n.squaredNorm();
+  cache.q0 = q0;
+  cache.n = e1.cross(e2);
+  cache.n2 = cache.n.squaredNorm();
   const Real longest2 = std::max({e1.squaredNorm(), e2.squaredNorm(), (q2 - q1).squaredNorm()});
-  r.well_shaped = r.n2 > 1e-6 * longest2 * longest2;
-  r.d[0] = r.n.dot(p0 - q0);
-  r.d[1] = r.n.dot(p1 - q0);
-  r.d[2] = r.n.dot(p2 - q0);
-  return r;
+  cache.well_shaped = cache.n2 > 1e-6 * longest2 * longest2;
+  return cache;
 }
 
-// Plane rejection: all of p0..p2 strictly on one side of the plane of q0q1q2, by more than
-// 1e-9·L (compared squared, d_i² > (1e-9·L)²·|n|²). Skipped (false) for slivers, whose plane is
+// Signed distances (× |n|) of p0..p2 to a triangle's plane. Each p − q0 is a difference of two
+// nearby points, as accurate as the pair's own coordinates allow.
+void plane_distances(const TrianglePlane& plane, const Vec3& p0, const Vec3& p1, const Vec3& p2, Real (&d)[3]) {
+  d[0] = plane.n.dot(p0 - plane.q0);
+  d[1] = plane.n.dot(p1 - plane.q0);
+  d[2] = plane.n.dot(p2 - plane.q0);
+}
+
+// Plane rejection: all of p0..p2 strictly on one side of the plane, by more than 1e-9·L
+// (compared squared, d_i² > (1e-9·L)²·|n|²). Skipped (false) for slivers, whose plane is
 // ill-conditioned.
-bool separated_by_plane(const PlaneDistances& pd, Real size) {
-  if (!pd.well_shaped) return false;
-  const Real* d = pd.d;
+bool separated_by_plane(const TrianglePlane& plane, const Real (&d)[3], Real size) {
+  if (!plane.well_shaped) return false;
   const bool all_above = d[0] > 0 && d[1] > 0 && d[2] > 0;
   const bool all_below = d[0] < 0 && d[1] < 0 && d[2] < 0;
   if (!all_above && !all_below) return false;
-  const Real threshold2 = 1e-18 * size * size * pd.n2;
+  const Real threshold2 = 1e-18 * size * size * plane.n2;
   return d[0] * d[0] > threshold2 && d[1] * d[1] > threshold2 && d[2] * d[2] > threshold2;
 }
 
@@ -89,16 +101,17 @@ void slab_interval(const Vec3 (&p)[3], const Real (&d)[3], Real tau, const Vec3&
 // intersection line direction nA × nB to two intervals; the pair is rejected when they are apart
 // by more than 1e-7·L. Every point the exact test puts on a trace lies in those parts, and its
 // ordering direction differs from the line by far less than that margin allows.
-bool separated_on_line(const Vec3 (&a)[3], const Vec3 (&b)[3], const PlaneDistances& a_to_b,
-                       const PlaneDistances& b_to_a, Real size) {
-  if (!a_to_b.well_shaped || !b_to_a.well_shaped) return false;
-  const Vec3 dir = b_to_a.n.cross(a_to_b.n);  // nA × nB
+bool separated_on_line(const Vec3 (&a)[3], const Vec3 (&b)[3], const TrianglePlane& plane_a, const Real (&d_a)[3],
+                       const TrianglePlane& plane_b, const Real (&d_b)[3], Real size) {
+  // d_a: A's corners to B's plane (× |nB|); d_b: B's corners to A's plane (× |nA|).
+  if (!plane_a.well_shaped || !plane_b.well_shaped) return false;
+  const Vec3 dir = plane_a.n.cross(plane_b.n);  // nA × nB
   const Real dir2 = dir.squaredNorm();
-  if (!(dir2 >= 1e-4 * a_to_b.n2 * b_to_a.n2)) return false;  // sin²θ < 1e-4
+  if (!(dir2 >= 1e-4 * plane_a.n2 * plane_b.n2)) return false;  // sin²θ < 1e-4
   constexpr Real kInf = std::numeric_limits<Real>::infinity();
   Real a_lo = kInf, a_hi = -kInf, b_lo = kInf, b_hi = -kInf;
-  slab_interval(a, a_to_b.d, 1e-9 * size * std::sqrt(a_to_b.n2), dir, a_lo, a_hi);
-  slab_interval(b, b_to_a.d, 1e-9 * size * std::sqrt(b_to_a.n2), dir, b_lo, b_hi);
+  slab_interval(a, d_a, 1e-9 * size * std::sqrt(plane_b.n2), dir, a_lo, a_hi);
+  slab_interval(b, d_b, 1e-9 * size * std::sqrt(plane_a.n2), dir, b_lo, b_hi);
   if (!(a_lo <= a_hi) || !(b_lo <= b_hi)) return false;  // (not expected: both straddle)
   const Real gap = std::max(a_lo, b_lo) - std::min(a_hi, b_hi);  // in units of |dir|
   return gap > 0 && gap * gap > 1e-14 * size * size * dir2;
@@ -115,6 +128,8 @@ Real pair_size(const Vec3& a0, const Vec3& a1, const Vec3& a2, const Vec3& b0, c
 void narrow_phase(std::span<const CollisionObject> objects, std::span<const CandidatePair> pairs,
                   std::vector<Contact>& out) {
   out.clear();
+  TrianglePlane cache_a;
+  TrianglePlane cache_b;
   for (const CandidatePair& pair : pairs) {
     const CollisionObject& oa = objects[pair.object_a];
     const CollisionObject& ob = objects[pair.object_b];
@@ -128,14 +143,19 @@ void narrow_phase(std::span<const CollisionObject> objects, std::span<const Cand
     const Vec3& b2 = ob.positions[tb[2]];
     const Real size = pair_size(a0, a1, a2, b0, b1, b2);
     if (!(size < std::numeric_limits<Real>::infinity())) continue;  // NaN or infinite input
-    // Relative to a0, so that the rejections' rounding follows the pair's size, not its position.
+    const TrianglePlane& plane_b = plane_of(cache_b, pair.object_b, pair.triangle_b, b0, b1, b2);
+    Real d_a[3];  // A's corners to B's plane
+    plane_distances(plane_b, a0, a1, a2, d_a);
+    if (separated_by_plane(plane_b, d_a, size)) continue;
+    const TrianglePlane& plane_a = plane_of(cache_a, pair.object_a, pair.triangle_a, a0, a1, a2);
+    Real d_b[3];  // B's corners to A's plane
+    plane_distances(plane_a, b0, b1, b2, d_b);
+    if (separated_by_plane(plane_a, d_b, size)) continue;
+    // Relative to a0, so that the projections' rounding follows the pair's size, not its
+    // position.
     const Vec3 ra[3] = {Vec3::Zero(), a1 - a0, a2 - a0};
     const Vec3 rb[3] = {b0 - a0, b1 - a0, b2 - a0};
-    const PlaneDistances a_to_b = plane_distances(ra[0], ra[1], ra[2], rb[0], rb[1], rb[2]);
-    if (separated_by_plane(a_to_b, size)) continue;
-    const PlaneDistances b_to_a = plane_distances(rb[0], rb[1], rb[2], ra[0], ra[1], ra[2]);
-    if (separated_by_plane(b_to_a, size)) continue;
-    if (separated_on_line(ra, rb, a_to_b, b_to_a, size)) continue;
+    if (separated_on_line(ra, rb, plane_a, d_a, plane_b, d_b, size)) continue;
     const TriTriResult r = intersect_triangles(a0, a1, a2, b0, b1, b2);
     if (!r.intersects) continue;
     Contact c;
