@@ -197,82 +197,94 @@ void Simulation::measure() {
   for (const auto& tissue : world_.tissues) {
     metrics_.kinetic_energy += kinetic_energy(tissue->settings, tissue->state.velocities);
     metrics_.elastic_energy += potential_energy(tissue->settings, tissue->state.positions, elastic);
+    // The fastest speed as √(max |u|²): sqrt is monotonic, so the same bits as max |u|.
+    Real speed_squared = 0;
     for (std::size_t v = 0; v < tissue->state.positions.size(); ++v) {
       const Vec3& x = tissue->state.positions[v];
       const Vec3& u = tissue->state.velocities[v];
       if (!x.allFinite() || !u.allFinite()) metrics_.finite = false;
-      metrics_.max_speed = std::max(metrics_.max_speed, u.norm());
+      speed_squared = std::max(speed_squared, u.squaredNorm());
     }
+    metrics_.max_speed = std::max(metrics_.max_speed, std::sqrt(speed_squared));
   }
   if (!settings_.measure_penetration || !metrics_.finite) return;
+  for (std::size_t t = 0; t < world_.tissues.size(); ++t)
+    if (distances_[t]) measure_penetration(t);
+}
 
+void Simulation::measure_penetration(std::size_t t) {
   const std::size_t ni = world_.instruments.size();
   const std::size_t nt = world_.tissues.size();
-  for (std::size_t t = 0; t < nt; ++t) {
-    if (!distances_[t]) continue;
-    const TissueBody& tissue = *world_.tissues[t];
-    const Aabb tissue_box = Aabb::of_points(tissue.state.positions);
-    // A point outside the box of a closed surface's vertices is outside the surface.
-    const Aabb inside_box = tissue_box.inflated(kBoxSlack);
-    bool refitted = false;
-    bool start_refitted = false;
-    for (std::size_t i = 0; i < ni; ++i) {
-      const InstrumentBody& body = world_.instruments[i];
-      std::span<const Vec3> points = body.instrument.world_positions();
-      std::vector<Real>& previous = previous_distance_[i * nt + t];
-      const Aabb box = tissue_box.inflated(body.thickness);
-      if (!box.overlaps(body.instrument.world_obb().bounds())) {
-        std::fill(previous.begin(), previous.end(), kOutside);
-        continue;
-      }
-      if (!refitted) {
-        // The surface of the last refit, normally this step's start surface, becomes the
-        // tunneling check's MeshDistance: most steps with candidates then need no second refit.
-        std::swap(distances_[t], start_distances_[t]);
-        distances_[t]->refit(tissue.state.positions);
-        refitted = true;
-      }
-      // Instrument vertices of this step's contacts with this tissue (contacts are sorted by
-      // object pair, a short run).
-      std::vector<std::uint8_t>& touched = touched_[i];
-      std::fill(touched.begin(), touched.end(), std::uint8_t{0});
-      for (const Contact& c : contacts_) {
-        if (c.kind != ContactKind::kInstrumentTissue || c.object_a != i || c.object_b != ni + t) continue;
-        for (std::uint32_t v : body.instrument.triangles()[c.triangle_a]) touched[v] = 1;
-      }
-      std::vector<std::uint32_t>& nearest = nearest_triangle_[i * nt + t];
-      for (std::size_t v = 0; v < points.size(); ++v) {
-        Real d = kOutside;
-        if (inside_box.contains(points[v])) {
-          const SignedDistanceResult r = distances_[t]->signed_distance(points[v], nearest[v]);
-          d = r.distance;
-          nearest[v] = r.triangle;
-        }
-        const Real prev = previous[v];
-        if (d < 0) {
-          ++metrics_.vertices_inside;
-          metrics_.penetration_max = std::max(metrics_.penetration_max, -d);
-          bool crossed = false;
-          if (prev > 0 && touched[v] == 0) {
-            // Did the vertex's own motion carry it across, i.e. is it inside the surface as the
-            // detection saw it? Otherwise the tissue moved over it after the response (a
-            // spring-back onto the tool, answered by the next detection), not a miss.
-            if (!start_refitted) {
-              if (!same_bits(start_distances_[t]->positions(), start_positions_[t]))
-                start_distances_[t]->refit(start_positions_[t]);
-              start_refitted = true;
-            }
-            crossed = start_distances_[t]->signed_distance(points[v], nearest[v]).distance < 0;
-          }
-          if (crossed) {
-            ++metrics_.tunneling_events;  // (a) crossed the surface with no contact seen
-          } else if (-d > body.thickness && !(-prev > body.thickness)) {
-            ++metrics_.tunneling_events;  // (b) deeper than the instrument is thick
-          }
-        }
-        previous[v] = d;
-      }
+  const TissueBody& tissue = *world_.tissues[t];
+  const Aabb tissue_box = Aabb::of_points(tissue.state.positions);
+  bool refitted = false;
+  start_refitted_ = false;
+  for (std::size_t i = 0; i < ni; ++i) {
+    const InstrumentBody& body = world_.instruments[i];
+    if (!tissue_box.inflated(body.thickness).overlaps(body.instrument.world_obb().bounds())) {
+      std::fill(previous_distance_[i * nt + t].begin(), previous_distance_[i * nt + t].end(), kOutside);
+      continue;
     }
+    if (!refitted) {
+      // The surface of the last refit, normally this step's start surface, becomes the
+      // tunneling check's MeshDistance: most steps with candidates then need no second refit.
+      std::swap(distances_[t], start_distances_[t]);
+      distances_[t]->refit(tissue.state.positions);
+      refitted = true;
+    }
+    // Instrument vertices of this step's contacts with this tissue (contacts are sorted by
+    // object pair, a short run).
+    std::vector<std::uint8_t>& touched = touched_[i];
+    std::fill(touched.begin(), touched.end(), std::uint8_t{0});
+    for (const Contact& c : contacts_) {
+      if (c.kind != ContactKind::kInstrumentTissue || c.object_a != i || c.object_b != ni + t) continue;
+      for (std::uint32_t v : body.instrument.triangles()[c.triangle_a]) touched[v] = 1;
+    }
+    measure_pair(i, t, tissue_box);
+  }
+}
+
+void Simulation::measure_pair(std::size_t i, std::size_t t, const Aabb& tissue_box) {
+  const std::size_t nt = world_.tissues.size();
+  const InstrumentBody& body = world_.instruments[i];
+  std::span<const Vec3> points = body.instrument.world_positions();
+  std::vector<Real>& previous = previous_distance_[i * nt + t];
+  std::vector<std::uint32_t>& nearest = nearest_triangle_[i * nt + t];
+  // A point outside the box of a closed surface's vertices is outside the surface.
+  const Aabb inside_box = tissue_box.inflated(kBoxSlack);
+  for (std::uint32_t v = 0; v < points.size(); ++v) {
+    Real d = kOutside;
+    if (inside_box.contains(points[v])) {
+      const SignedDistanceResult r = distances_[t]->signed_distance(points[v], nearest[v]);
+      d = r.distance;
+      nearest[v] = r.triangle;
+    }
+    if (d < 0) count_inside(body, i, t, v, d);
+    previous[v] = d;
+  }
+}
+
+void Simulation::count_inside(const InstrumentBody& body, std::size_t i, std::size_t t, std::uint32_t v, Real d) {
+  const std::size_t nt = world_.tissues.size();
+  const Real prev = previous_distance_[i * nt + t][v];
+  ++metrics_.vertices_inside;
+  metrics_.penetration_max = std::max(metrics_.penetration_max, -d);
+  bool crossed = false;
+  if (prev > 0 && touched_[i][v] == 0) {
+    // Did the vertex's own motion carry it across, i.e. is it inside the surface as the
+    // detection saw it? Otherwise the tissue moved over it after the response (a
+    // spring-back onto the tool, answered by the next detection), not a miss.
+    if (!start_refitted_) {
+      if (!same_bits(start_distances_[t]->positions(), start_positions_[t])) start_distances_[t]->refit(start_positions_[t]);
+      start_refitted_ = true;
+    }
+    const Vec3& p = body.instrument.world_positions()[v];
+    crossed = start_distances_[t]->signed_distance(p, nearest_triangle_[i * nt + t][v]).distance < 0;
+  }
+  if (crossed) {
+    ++metrics_.tunneling_events;  // (a) crossed the surface with no contact seen
+  } else if (-d > body.thickness && !(-prev > body.thickness)) {
+    ++metrics_.tunneling_events;  // (b) deeper than the instrument is thick
   }
 }
 

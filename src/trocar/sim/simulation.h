@@ -77,8 +77,9 @@ struct StepMetrics {
 /// tissue's MeshDistance is refitted to the deformed positions once per step and every
 /// instrument vertex inside the tissue's own box (grown by kBoxSlack against rounding) is
 /// queried, seeded with the triangle that vertex was nearest to last time; a vertex outside that
-/// box is outside the tissue (its distance is recorded as +inf: only the sign of an outside
-/// vertex's distance enters the metrics). depth = max(0, −signed distance). Open tissues
+/// box is outside the tissue (outside the hull of its vertices; its distance is recorded as
+/// +inf: only the sign of an outside vertex's distance enters the metrics). depth = max(0,
+/// −signed distance). Open tissues
 /// (sheets) have no inside and are not measured. Tunneling, per instrument vertex and tissue:
 /// (a) the vertex was outside at the end of the previous step, is inside now, is inside the
 /// surface as it stood when this step's detection ran (before this step's deformation: the
@@ -115,6 +116,12 @@ class Simulation {
   void respond();
   void deform(Real dt);
   void measure();
+  void measure_penetration(std::size_t tissue);
+  void measure_pair(std::size_t instrument, std::size_t tissue, const Aabb& tissue_box);
+  /// Counts vertex v of an instrument, at signed distance d < 0 inside a tissue, and its
+  /// tunneling event if any.
+  void count_inside(const InstrumentBody& body, std::size_t instrument, std::size_t tissue,
+                    std::uint32_t v, Real d);
   ResponseSolver& solver(std::size_t instrument, std::size_t tissue) {
     return solvers_[instrument * world_.tissues.size() + tissue];
   }
@@ -141,6 +148,7 @@ class Simulation {
   /// to (MeshDistance::kNoTriangle if none), the seed of its next query.
   std::vector<std::vector<std::uint32_t>> nearest_triangle_;
   std::vector<std::vector<std::uint8_t>> touched_;  ///< per instrument: vertex in a contact now
+  bool start_refitted_ = false;  ///< start_distances_ of the tissue being measured is current
   StepMetrics metrics_;
   Real time_ = 0;
   std::uint64_t steps_ = 0;
