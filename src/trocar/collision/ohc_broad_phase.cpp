@@ -373,7 +373,7 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
   //    intersect, a common point x lies in both inflated triangle boxes and so in both object
   //    boxes, hence in box_i ∩ box_j ⊆ region_i ∩ region_j: both pass and their clipped boxes
   //    still share x.
-  Real edge_sum = 0;
+  Real edge_sum2 = 0;  // Σ squared edge lengths of the hashed primitives
   std::size_t edge_count = 0;
   for (std::uint32_t i = 0; i < n; ++i) {
     const Aabb& region = regions_[i];
@@ -424,7 +424,7 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
         prim.object = i;
         prim.triangle = t;
         primitives_.push_back(prim);
-        edge_sum += (b - a).norm() + (cc - b).norm() + (a - cc).norm();
+        edge_sum2 += (b - a).squaredNorm() + (cc - b).squaredNorm() + (a - cc).squaredNorm();
         edge_count += 3;
       }
     }
@@ -435,7 +435,8 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
   // 3. Cell size and cell ranges; double the cell while a few huge boxes would need too many.
   Real h = settings_.cell_size;
   if (!(h > 0) || !std::isfinite(h)) {
-    h = settings_.auto_cell_factor * edge_sum / static_cast<Real>(edge_count);
+    // Root mean square edge length: one square root per frame instead of three per primitive.
+    h = settings_.auto_cell_factor * std::sqrt(edge_sum2 / static_cast<Real>(edge_count));
   }
   if (!(h > 0) || !std::isfinite(h)) {
     Aabb all;
