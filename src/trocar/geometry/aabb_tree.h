@@ -73,28 +73,32 @@ void AabbTree::nearest(const Vec3& p, Real& best_squared, ItemDistance&& item_di
     std::uint32_t node;
     Real d2;
   };
+  // Depth-first, nearer child first: the walk goes straight down the nearer child and stacks the
+  // farther one. The pushes are branch-free (write, then advance when the child is within the
+  // bound): whether a child is kept is data-dependent, and mispredicted branches there were most
+  // of a query's time. The stack holds at most one entry per level, so depth ≤ 33 fits.
   std::array<Entry, kMaxStack> stack;
   std::size_t top = 0;
   stack[top++] = {0, distance_squared(nodes_[0].box, p)};
   while (top > 0) {
     const Entry e = stack[--top];
     if (!(e.d2 < best_squared)) continue;
-    const Node& n = nodes_[e.node];
-    if (n.count > 0) {
-      for (std::uint32_t i = n.first; i < n.first + n.count; ++i) item_distance(items_[i], best_squared);
-      continue;
-    }
-    const std::uint32_t l = n.first;
-    const std::uint32_t r = n.first + 1;
-    const Real dl = distance_squared(nodes_[l].box, p);
-    const Real dr = distance_squared(nodes_[r].box, p);
-    // Push the farther child first so the nearer one is searched first and shrinks the bound.
-    if (dl <= dr) {
-      if (dr < best_squared) stack[top++] = {r, dr};
-      if (dl < best_squared) stack[top++] = {l, dl};
-    } else {
-      if (dl < best_squared) stack[top++] = {l, dl};
-      if (dr < best_squared) stack[top++] = {r, dr};
+    std::uint32_t node = e.node;
+    for (;;) {
+      const Node& n = nodes_[node];
+      if (n.count > 0) {
+        for (std::uint32_t i = n.first; i < n.first + n.count; ++i) item_distance(items_[i], best_squared);
+        break;
+      }
+      const Real dl = distance_squared(nodes_[n.first].box, p);
+      const Real dr = distance_squared(nodes_[n.first + 1].box, p);
+      const bool left_nearer = dl <= dr;
+      const std::uint32_t near = left_nearer ? n.first : n.first + 1;
+      const Real near_d2 = left_nearer ? dl : dr;
+      stack[top] = {left_nearer ? n.first + 1 : n.first, left_nearer ? dr : dl};
+      top += stack[top].d2 < best_squared ? 1 : 0;
+      if (!(near_d2 < best_squared)) break;
+      node = near;
     }
   }
 }
