@@ -125,7 +125,9 @@ class OhcBroadPhase final : public BroadPhase {
     std::vector<std::uint32_t> order;         ///< triangle ids, cluster after cluster
     std::vector<Triangle> ordered;            ///< the triangles' vertex ids in that order
     std::vector<std::uint32_t> vertex_start;  ///< per cluster, first entry in vertices (+ end)
-    std::vector<std::uint32_t> vertices;      ///< each cluster's distinct vertex ids, ascending
+    /// Each cluster's distinct vertices, ascending, as offsets in doubles into the positions
+    /// (3 × vertex id; meshes have far fewer than 2³²/3 vertices).
+    std::vector<std::uint32_t> vertices;
     std::vector<Aabb> boxes;                  ///< per cluster: box of its vertices this frame
     /// Per cluster, this frame: bounding box of its (grown) box's overlaps with the (grown)
     /// boxes of its partners' clusters (empty: not opened). Used by the cluster cascade only.
