@@ -208,6 +208,38 @@ TEST(MeshDistance, HintedQueriesGiveTheSameDistance) {
   }
 }
 
+// A batch query gives every point its own query's distance, whatever the hints, and leaves the
+// nearest triangle in the hint; batches of clustered and of scattered points.
+TEST(MeshDistance, BatchQueriesEqualSingleQueries) {
+  const TriMesh mesh = bumped_sphere();
+  MeshDistance md(sphere_mesh(3, 1.0).positions, mesh.triangles);
+  md.refit(mesh.positions);
+  std::vector<std::uint32_t> scratch(mesh.triangles.size());
+  std::mt19937_64 rng(12);
+  std::uniform_real_distribution<Real> u(-1, 1);
+  for (int batch = 0; batch < 400; ++batch) {
+    const Real spread = batch % 2 == 0 ? 0.05 : 2.0;  // a cluster near the surface, or anywhere
+    const Vec3 centre = mesh.positions[rng() % mesh.positions.size()];
+    std::vector<Vec3> points(1 + rng() % 16);
+    std::vector<std::uint32_t> hints(points.size());
+    for (std::size_t k = 0; k < points.size(); ++k) {
+      points[k] = centre + spread * Vec3(u(rng), u(rng), u(rng));
+      const std::uint64_t pick = rng() % 3;  // none, a random triangle, or the right one
+      hints[k] = pick == 0   ? MeshDistance::kNoTriangle
+                 : pick == 1 ? static_cast<std::uint32_t>(rng() % mesh.triangles.size())
+                             : md.signed_distance(points[k]).triangle;
+    }
+    std::vector<SignedDistanceResult> results(points.size());
+    md.signed_distances(points, hints, results, scratch);
+    for (std::size_t k = 0; k < points.size(); ++k) {
+      const SignedDistanceResult single = md.signed_distance(points[k]);
+      ASSERT_EQ(results[k].distance, single.distance) << points[k].transpose();
+      ASSERT_EQ(hints[k], results[k].triangle);
+      ASSERT_NEAR((points[k] - results[k].closest_point).norm(), std::abs(single.distance), 1e-15);
+    }
+  }
+}
+
 TEST(MeshDistance, RejectsBadInputAndHandlesEmptyMeshes) {
   const std::vector<Vec3> pts = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)};
   const std::vector<Triangle> bad = {{0, 1, 3}};

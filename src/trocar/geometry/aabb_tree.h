@@ -58,6 +58,18 @@ class AabbTree {
   template <class ItemDistance>
   void nearest(const Vec3& p, Real& best_squared, ItemDistance&& item_distance) const;
 
+  /// Squared distance between two boxes (0 when they overlap), in item units squared.
+  static Real distance_squared(const Aabb& a, const Aabb& b) {
+    const Vec3 below = (a.min - b.max).cwiseMax(0.0);
+    const Vec3 above = (b.min - a.max).cwiseMax(0.0);
+    return (below + above).squaredNorm();
+  }
+
+  /// Calls visit(item) for every item in a leaf whose box is nearer to `region` than
+  /// √radius_squared (squared box–box distance < radius_squared). No allocation (fixed stack).
+  template <class Visit>
+  void for_each_near(const Aabb& region, Real radius_squared, Visit&& visit) const;
+
  private:
   void build_node(std::uint32_t index, std::uint32_t begin, std::uint32_t end,
                   std::span<const Aabb> boxes, const std::vector<Vec3>& centroids);
@@ -99,6 +111,26 @@ void AabbTree::nearest(const Vec3& p, Real& best_squared, ItemDistance&& item_di
       top += stack[top].d2 < best_squared ? 1 : 0;
       if (!(near_d2 < best_squared)) break;
       node = near;
+    }
+  }
+}
+
+template <class Visit>
+void AabbTree::for_each_near(const Aabb& region, Real radius_squared, Visit&& visit) const {
+  if (nodes_.empty() || !(distance_squared(nodes_[0].box, region) < radius_squared)) return;
+  std::array<std::uint32_t, kMaxStack> stack;
+  std::size_t top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& n = nodes_[stack[--top]];
+    if (n.count > 0) {
+      for (std::uint32_t i = n.first; i < n.first + n.count; ++i) visit(items_[i]);
+      continue;
+    }
+    // Children are tested before they are stacked, so the stack holds one entry per level.
+    for (std::uint32_t c = n.first; c < n.first + 2; ++c) {
+      stack[top] = c;
+      top += distance_squared(nodes_[c].box, region) < radius_squared ? 1 : 0;
     }
   }
 }

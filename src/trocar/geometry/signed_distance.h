@@ -60,6 +60,16 @@ class MeshDistance {
   /// triangle of the previous query from a nearby point), seeds the search bound with p's
   /// distance to it, so fewer nodes are visited; the result's distance is the same.
   SignedDistanceResult signed_distance(const Vec3& p, std::uint32_t hint = kNoTriangle) const;
+  /// Signed distances of a batch of nearby points (e.g. an instrument's vertices near this mesh):
+  /// results[k] is what signed_distance(points[k], hints[k]) gives, and hints[k] becomes its
+  /// triangle. Instead of one tree walk per point, each point's distance to its hint triangle
+  /// bounds its search; one walk collects every triangle whose box is nearer than the largest
+  /// bound to the batch's box (no other triangle can be nearest to any of the points), and each
+  /// point scans only those. Points without a hint get a tree query first. `scratch` needs
+  /// triangles().size() entries. No allocation.
+  void signed_distances(std::span<const Vec3> points, std::span<std::uint32_t> hints,
+                        std::span<SignedDistanceResult> results,
+                        std::span<std::uint32_t> scratch) const;
   /// Same as signed_distance() by testing every triangle (a reference for tests; O(n)).
   SignedDistanceResult signed_distance_brute_force(const Vec3& p) const;
 

@@ -1,10 +1,12 @@
 #include "trocar/sim/simulation.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <limits>
+#include <numeric>
 
 #include "trocar/core/timer.h"
 #include "trocar/tissue/forces.h"
@@ -35,6 +37,34 @@ void hash_real(std::uint64_t& h, Real x) {
     h ^= b;
     h *= 0x100000001b3ull;
   }
+}
+
+/// Instrument vertices waiting to be queried together (MeshDistance::signed_distances): one
+/// tree walk per batch instead of per vertex. 16 nearby vertices per walk measured best on the
+/// probe–liver press (4: no gain, 32: none over 16).
+struct QueryBatch {
+  static constexpr std::size_t kSize = 16;
+  std::array<Vec3, kSize> points;
+  std::array<std::uint32_t, kSize> hints;     ///< nearest triangle last time, then now
+  std::array<std::uint32_t, kSize> vertices;  ///< instrument vertex ids
+  std::array<SignedDistanceResult, kSize> results;
+  std::size_t count = 0;
+};
+
+/// Vertex ids in a spatially coherent order, so that consecutive vertices make compact batches:
+/// recursive median splits along the longest axis of the points' box (ties by id).
+void coherent_order(std::span<const Vec3> points, std::span<std::uint32_t> ids) {
+  if (ids.size() <= 2) return;
+  Aabb box;
+  for (const std::uint32_t v : ids) box.expand(points[v]);
+  Eigen::Index axis = 0;
+  box.size().maxCoeff(&axis);
+  const auto mid = ids.begin() + static_cast<std::ptrdiff_t>(ids.size() / 2);
+  std::nth_element(ids.begin(), mid, ids.end(), [&](std::uint32_t a, std::uint32_t b) {
+    return points[a][axis] < points[b][axis] || (points[a][axis] == points[b][axis] && a < b);
+  });
+  coherent_order(points, ids.first(ids.size() / 2));
+  coherent_order(points, ids.subspan(ids.size() / 2));
 }
 
 /// True when a and b hold the same vertices, bit for bit.
@@ -86,15 +116,24 @@ Simulation::Simulation(World world, const SimulationSettings& settings)
   previous_distance_.resize(ni * nt);
   nearest_triangle_.resize(ni * nt);
   touched_.resize(ni);
+  query_order_.resize(ni);
   for (std::size_t i = 0; i < ni; ++i) {
-    const std::size_t nv = world_.instruments[i].instrument.world_positions().size();
+    const std::span<const Vec3> points = world_.instruments[i].instrument.world_positions();
+    const std::size_t nv = points.size();
     touched_[i].assign(nv, 0);
+    query_order_[i].resize(nv);
+    std::iota(query_order_[i].begin(), query_order_[i].end(), std::uint32_t{0});
+    coherent_order(points, query_order_[i]);
     for (std::size_t t = 0; t < nt; ++t) {
       previous_distance_[i * nt + t].assign(nv, kUnknown);
       nearest_triangle_[i * nt + t].assign(nv, MeshDistance::kNoTriangle);
     }
   }
   contacts_.reserve(1024);
+  std::size_t most_triangles = 0;
+  for (std::size_t t = 0; t < nt; ++t)
+    if (distances_[t]) most_triangles = std::max(most_triangles, world_.tissues[t]->settings.triangles.size());
+  query_scratch_.resize(most_triangles);
 }
 
 const StepMetrics& Simulation::step(Real dt) {
@@ -252,16 +291,32 @@ void Simulation::measure_pair(std::size_t i, std::size_t t, const Aabb& tissue_b
   std::vector<std::uint32_t>& nearest = nearest_triangle_[i * nt + t];
   // A point outside the box of a closed surface's vertices is outside the surface.
   const Aabb inside_box = tissue_box.inflated(kBoxSlack);
-  for (std::uint32_t v = 0; v < points.size(); ++v) {
-    Real d = kOutside;
-    if (inside_box.contains(points[v])) {
-      const SignedDistanceResult r = distances_[t]->signed_distance(points[v], nearest[v]);
-      d = r.distance;
-      nearest[v] = r.triangle;
-    }
+  const auto record = [&](std::uint32_t v, Real d) {
     if (d < 0) count_inside(body, i, t, v, d);
     previous[v] = d;
+  };
+  QueryBatch batch;
+  const auto flush = [&] {
+    const std::size_t n = batch.count;
+    distances_[t]->signed_distances(std::span(batch.points).first(n), std::span(batch.hints).first(n),
+                                    std::span(batch.results).first(n), query_scratch_);
+    for (std::size_t k = 0; k < n; ++k) {
+      nearest[batch.vertices[k]] = batch.hints[k];
+      record(batch.vertices[k], batch.results[k].distance);
+    }
+    batch.count = 0;
+  };
+  for (const std::uint32_t v : query_order_[i]) {
+    if (!inside_box.contains(points[v])) {
+      record(v, kOutside);
+      continue;
+    }
+    batch.points[batch.count] = points[v];
+    batch.hints[batch.count] = nearest[v];
+    batch.vertices[batch.count] = v;
+    if (++batch.count == QueryBatch::kSize) flush();
   }
+  if (batch.count > 0) flush();
 }
 
 void Simulation::count_inside(const InstrumentBody& body, std::size_t i, std::size_t t, std::uint32_t v, Real d) {

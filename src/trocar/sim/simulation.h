@@ -78,8 +78,9 @@ struct StepMetrics {
 /// instrument vertex inside the tissue's own box (grown by kBoxSlack against rounding) is
 /// queried, seeded with the triangle that vertex was nearest to last time; a vertex outside that
 /// box is outside the tissue (outside the hull of its vertices; its distance is recorded as
-/// +inf: only the sign of an outside vertex's distance enters the metrics). depth = max(0,
-/// −signed distance). Open tissues
+/// +inf: only the sign of an outside vertex's distance enters the metrics). The queries go in
+/// batches of nearby vertices (MeshDistance::signed_distances; each result is the vertex's own
+/// exact query). depth = max(0, −signed distance). Open tissues
 /// (sheets) have no inside and are not measured. Tunneling, per instrument vertex and tissue:
 /// (a) the vertex was outside at the end of the previous step, is inside now, is inside the
 /// surface as it stood when this step's detection ran (before this step's deformation: the
@@ -149,6 +150,10 @@ class Simulation {
   std::vector<std::vector<std::uint32_t>> nearest_triangle_;
   std::vector<std::vector<std::uint8_t>> touched_;  ///< per instrument: vertex in a contact now
   bool start_refitted_ = false;  ///< start_distances_ of the tissue being measured is current
+  /// Per instrument: its vertex ids in a spatially coherent order (the penetration queries go in
+  /// batches of consecutive vertices in the tissue's box).
+  std::vector<std::vector<std::uint32_t>> query_order_;
+  std::vector<std::uint32_t> query_scratch_;  ///< candidate triangles of one query batch
   StepMetrics metrics_;
   Real time_ = 0;
   std::uint64_t steps_ = 0;
