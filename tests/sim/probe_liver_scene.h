@@ -12,7 +12,8 @@ namespace trocar::test {
 
 /// The scene text, or nothing when the shared meshes are absent. The probe's hook tip starts
 /// 1 cm above the liver's top and goes down 2 cm in `press_time` seconds, then holds.
-inline std::optional<std::string> probe_liver_scene_text(double press_time = 1.0) {
+/// `method`: the response method (DESIGN.md §4).
+inline std::optional<std::string> probe_liver_scene_text(double press_time = 1.0, const std::string& method = "obb") {
   const std::filesystem::path dir(TROCAR_SHARED_MESHES);
   const auto liver = dir / "liver_sofa_smooth.obj";
   const auto probe = dir / "probe_hook_electrode_lapgym.stl";
@@ -29,7 +30,7 @@ inline std::optional<std::string> probe_liver_scene_text(double press_time = 1.0
                      {"t": 0, "position": [-0.012, 0.027, 0.052], "rotate_deg": [180, 0, 0]},
                      {"t": )" + std::to_string(press_time) + R"(, "position": [-0.012, 0.027, 0.032], "rotate_deg": [180, 0, 0]}]}}],
   "collision": {"broad_phase": "ohc", "cell_size": "auto"},
-  "response": {"method": "obb", "stiffness": 2000, "damping": 5, "max_force": 10}
+  "response": {"method": ")" + method + R"(", "stiffness": 2000, "damping": 5, "max_force": 10}
 })";
 }
 

@@ -1,5 +1,10 @@
 // Developer scene with the real shared meshes (skipped when ../shared is absent): the hook probe
 // presses on the liver; the run stays stable, makes contacts and a force pushing the probe back.
+// Response `normal`: with the seed's `obb` the held probe keeps liver vertices jittering at 1–2 m/s
+// (PD reaches across the probe's whole box, so the force is bang-bang) with rare spikes near
+// 100 m/s, and whether a 700-step run stays under a speed bound is down to rounding (it flips
+// between the AVX2 and the portable tissue solver, which agree to 1e-6 over 1000 steps with
+// `normal`). docs/response.md, "Known limits".
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -12,7 +17,7 @@ namespace trocar {
 namespace {
 
 TEST(ProbeLiver, PressStaysStableWithContactsAndUpwardForce) {
-  const auto text = test::probe_liver_scene_text(0.5);
+  const auto text = test::probe_liver_scene_text(0.5, "normal");
   if (!text) GTEST_SKIP() << "shared meshes absent";
   Scene scene = parse_scene(*text, "probe-liver.json", "/");
   Simulation sim(std::move(scene.world), scene.settings);

@@ -78,10 +78,13 @@ TEST(IntegratorNames, RoundTripAndErrorListsNames) {
 // The implicit step solves (M − h D − h² K) Δv = h (f₀ + h K v₀) on the free vertices, with D and
 // K those of forces.h plus the contacts': checked here with forces.h's own products on a sphere
 // with every term on (springs, area, volume, home, damping, gravity), fixed vertices and contacts.
-TEST(Integrator, ImplicitStepSolvesTheBackwardEulerSystemOfForcesH) {
+// Both solvers: the AVX2 one (runs where the CPU has AVX2+FMA and the area term is off) and the
+// portable one (set_simd(false), or the area term on).
+void check_backward_euler_system(bool area, bool simd) {
+  SCOPED_TRACE(std::string(area ? "area on" : "area off") + (simd ? ", simd" : ", portable"));
   MassSpringMaterial m;
   m.mass = 0.1;
-  m.k_area = 20;
+  m.k_area = area ? 20 : 0;
   m.k_volume = 5e3;
   m.k_home = 3;
   FixedSelection fixed;
@@ -104,12 +107,14 @@ TEST(Integrator, ImplicitStepSolvesTheBackwardEulerSystemOfForcesH) {
   options.cg_tolerance = 1e-13;
   options.max_cg_iterations = 2000;
   MassSpringIntegrator integ(s, IntegratorKind::kImplicitEuler, options);
+  integ.set_simd(simd);
   MassSpringState st1 = st0;
   const Real h = 2e-3;
   const StepStats stats = integ.step(st1, loads, h);
   ASSERT_TRUE(stats.finite);
   EXPECT_LE(stats.cg_residual, 1e-13);
-  std::cout << "[ figures  ] every term on, h = 2 ms, tolerance 1e-13: CG " << stats.cg_iterations << " iterations\n";
+  std::cout << "[ figures  ] " << (area ? "every term on" : "every term but area") << (integ.simd() && !area ? " (AVX2)" : " (portable)")
+            << ", h = 2 ms, tolerance 1e-13: CG " << stats.cg_iterations << " iterations\n";
 
   const std::size_t n = s.vertex_count();
   std::vector<Vec3> dv(n), f(loads.forces), kv(n, Vec3::Zero()), adv(n, Vec3::Zero()), kdv(n, Vec3::Zero());
@@ -145,6 +150,11 @@ TEST(Integrator, ImplicitStepSolvesTheBackwardEulerSystemOfForcesH) {
     EXPECT_NEAR((st1.positions[i] - st0.positions[i] - h * st1.velocities[i]).norm(), 0, 1e-15);
   }
   EXPECT_LT(std::sqrt(residual2 / b2), 1e-10);
+}
+
+TEST(Integrator, ImplicitStepSolvesTheBackwardEulerSystemOfForcesH) {
+  for (bool area : {true, false})
+    for (bool simd : {true, false}) check_backward_euler_system(area, simd);
 }
 
 // Undamped symplectic Euler: a 162-vertex sphere of springs, perturbed, 10⁴ steps of 50 µs.

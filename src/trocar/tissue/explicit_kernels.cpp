@@ -14,6 +14,8 @@
 #include "trocar/tissue/explicit_kernels.h"
 
 #include <cmath>
+#include <cstdlib>
+#include <string_view>
 #if defined(__x86_64__)
 #include <immintrin.h>
 #define TROCAR_HAVE_X86 1
@@ -234,7 +236,9 @@ std::vector<SpringQuad> make_spring_quads(const std::vector<Spring>& springs) {
 
 bool cpu_has_avx2_fma() {
 #ifdef TROCAR_HAVE_X86
-  static const bool has = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+  // TROCAR_SIMD=off forces the portable passes everywhere (to compare, or to rule them out).
+  static const bool has = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") &&
+                          !(std::getenv("TROCAR_SIMD") != nullptr && std::string_view(std::getenv("TROCAR_SIMD")) == "off");
   return has;
 #else
   return false;

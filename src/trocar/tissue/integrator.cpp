@@ -52,6 +52,7 @@ MassSpringIntegrator::MassSpringIntegrator(const MassSpringSettings& settings, I
     return;
   }
 
+  if (use_avx2_) implicit_avx2_ = std::make_unique<tissue_detail::ImplicitAvx2>(settings);
   dv_.assign(n, Vec3::Zero());
   residual_.assign(n, Vec3::Zero());
   direction_.assign(n, Vec3::Zero());

@@ -1,11 +1,13 @@
 #pragma once
 /// Time integration of a mass-spring tissue.
 #include <cstdint>
+#include <memory>
 #include <string_view>
 #include <vector>
 
 #include "trocar/core/types.h"
 #include "trocar/tissue/explicit_kernels.h"
+#include "trocar/tissue/implicit_kernels.h"
 #include "trocar/tissue/forces.h"
 #include "trocar/tissue/settings.h"
 #include "trocar/tissue/state.h"
@@ -103,6 +105,8 @@ class MassSpringIntegrator {
   std::vector<tissue_detail::Padded3> padded_positions_, padded_velocities_;  ///< copies of the state
   std::vector<tissue_detail::Padded3> padded_rest_;  ///< the rest positions
   std::vector<tissue_detail::SpringQuad> spring_quads_;  ///< the springs, four by four
+  /// Implicit: the AVX2 solver (where the CPU has AVX2+FMA), used unless the area term is on.
+  std::unique_ptr<tissue_detail::ImplicitAvx2> implicit_avx2_;
   bool use_avx2_ = false;  ///< the CPU has AVX2 + FMA (explicit_kernels.h)
   std::vector<Sym3> preconditioner_;     ///< block Jacobi: (A_ii)⁻¹ per vertex (0 at fixed)
   std::vector<Real> diagonal_mass_;      ///< m_i (1 + hγ) + h² k_home, for this step's h

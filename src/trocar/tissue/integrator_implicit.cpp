@@ -381,6 +381,11 @@ StepStats MassSpringIntegrator::step_implicit(MassSpringState& state, const Tiss
     fixed_positions_[k] = state.positions[fixed_indices_[k]];
     state.velocities[fixed_indices_[k]].setZero();
   }
+  if (use_avx2_ && implicit_avx2_ && tissue_detail::ImplicitAvx2::supports(settings_, terms_)) {
+    const StepStats stats = implicit_avx2_->step(state, loads, h, terms_, options_);
+    end_step(state);
+    return stats;
+  }
   if (loads.forces.size() == forces_.size())
     std::copy(loads.forces.begin(), loads.forces.end(), forces_.begin());
   else

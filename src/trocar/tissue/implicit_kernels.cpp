@@ -1,0 +1,422 @@
+// The implicit step in AVX2+FMA. integrator_implicit.cpp derives every formula used here
+// (system A Δv = b, spring blocks a u uᵀ + b I, volume rank-one term, contacts, block-Jacobi
+// preconditioner, warm start, stopping rule); this file only changes the layout:
+//  * every vertex vector is padded to (x, y, z, 0), so it is one aligned 256-bit access;
+//  * the spring force pass takes four springs at a time (|d|² and Δv·d of four springs from one
+//    horizontal-add transpose, one vsqrtpd and one vdivpd for four 1/|d|) and writes the CG
+//    cache four springs at a time (CgSpringQuad);
+//  * in the CG product a spring is: two loads of p, one of u, u·δ for four springs at once,
+//    two broadcasts, and two read-modify-writes of A·p;
+//  * the preconditioner blocks are (xx, yy, zz, 0 | xy, yz, zx, 0), so P⁻¹ r is two multiplies
+//    and two permuted products per vertex.
+// With the area term on, the portable solver runs instead (supports()).
+#include "trocar/tissue/implicit_kernels.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "trocar/tissue/integrator.h"
+
+#if defined(__x86_64__)
+#include <immintrin.h>
+#define TROCAR_HAVE_X86 1
+#define TROCAR_AVX2 __attribute__((target("avx2,fma")))
+#endif
+
+namespace trocar::tissue_detail {
+
+#ifdef TROCAR_HAVE_X86
+namespace {
+
+constexpr Real kTinyLength2 = 1e-30;               ///< as forces.cpp
+constexpr Real kVelocityFloorPerTolerance = 0.1;   ///< as integrator_implicit.cpp (m/s)
+
+TROCAR_AVX2 inline __m256d load(const Padded3& p) { return _mm256_load_pd(&p.x); }
+TROCAR_AVX2 inline void store(Padded3& p, __m256d a) { _mm256_store_pd(&p.x, a); }
+TROCAR_AVX2 inline __m256d load_at(const Padded3* base, std::uint32_t offset) {
+  return _mm256_load_pd(reinterpret_cast<const Real*>(reinterpret_cast<const char*>(base) + offset));
+}
+TROCAR_AVX2 inline void add_at(Padded3* base, std::uint32_t offset, __m256d a) {
+  Real* p = reinterpret_cast<Real*>(reinterpret_cast<char*>(base) + offset);
+  _mm256_store_pd(p, _mm256_add_pd(_mm256_load_pd(p), a));
+}
+TROCAR_AVX2 inline void subtract_at(Padded3* base, std::uint32_t offset, __m256d a) {
+  Real* p = reinterpret_cast<Real*>(reinterpret_cast<char*>(base) + offset);
+  _mm256_store_pd(p, _mm256_sub_pd(_mm256_load_pd(p), a));
+}
+TROCAR_AVX2 inline void add_block(Block3* base, std::uint32_t vertex_offset, __m256d diagonal, __m256d off) {
+  // Block3 is 64 bytes per vertex, Padded3 32: the block offset is twice the vertex offset.
+  Real* p = reinterpret_cast<Real*>(reinterpret_cast<char*>(base) + 2 * std::size_t{vertex_offset});
+  _mm256_store_pd(p, _mm256_add_pd(_mm256_load_pd(p), diagonal));
+  _mm256_store_pd(p + 4, _mm256_add_pd(_mm256_load_pd(p + 4), off));
+}
+TROCAR_AVX2 inline __m256d vec3(const Vec3& a) { return _mm256_setr_pd(a[0], a[1], a[2], 0); }
+/// (y, z, x, ·) and (z, x, y, ·).
+TROCAR_AVX2 inline __m256d yzx(__m256d a) { return _mm256_permute4x64_pd(a, _MM_SHUFFLE(3, 0, 2, 1)); }
+TROCAR_AVX2 inline __m256d zxy(__m256d a) { return _mm256_permute4x64_pd(a, _MM_SHUFFLE(3, 1, 0, 2)); }
+/// [Σa, Σb, Σc, Σd].
+TROCAR_AVX2 inline __m256d horizontal_sums(__m256d a, __m256d b, __m256d c, __m256d d) {
+  const __m256d ab = _mm256_hadd_pd(a, b);
+  const __m256d cd = _mm256_hadd_pd(c, d);
+  return _mm256_add_pd(_mm256_permute2f128_pd(ab, cd, 0x20), _mm256_permute2f128_pd(ab, cd, 0x31));
+}
+TROCAR_AVX2 inline Real sum(__m256d a) {
+  alignas(32) Real lanes[4];
+  _mm256_store_pd(lanes, a);
+  return (lanes[0] + lanes[1]) + (lanes[2] + lanes[3]);
+}
+TROCAR_AVX2 inline Real max_lane(__m256d a) {
+  alignas(32) Real lanes[4];
+  _mm256_store_pd(lanes, a);
+  return std::max(std::max(lanes[0], lanes[1]), std::max(lanes[2], lanes[3]));
+}
+/// The symmetric block times r: diagonal ∘ r + (xy r_y + zx r_z, yz r_z + xy r_x, zx r_x + yz r_y).
+TROCAR_AVX2 inline __m256d block_times(const Block3& m, __m256d r) {
+  const __m256d off = _mm256_load_pd(m.off);
+  return _mm256_fmadd_pd(_mm256_load_pd(m.diagonal), r,
+                         _mm256_fmadd_pd(off, yzx(r), _mm256_mul_pd(zxy(off), zxy(r))));
+}
+TROCAR_AVX2 inline __m256d absolute(__m256d a) { return _mm256_andnot_pd(_mm256_set1_pd(-0.0), a); }
+
+/// The inverse of a symmetric positive definite block by cofactors (integrator_implicit.cpp's).
+void invert(Block3& m) {
+  const Real xx = m.diagonal[0], yy = m.diagonal[1], zz = m.diagonal[2];
+  const Real xy = m.off[0], yz = m.off[1], zx = m.off[2];
+  const Real c00 = yy * zz - yz * yz, c11 = xx * zz - zx * zx, c22 = xx * yy - xy * xy;
+  const Real c01 = zx * yz - xy * zz, c02 = xy * yz - zx * yy, c12 = xy * zx - xx * yz;
+  const Real r = 1.0 / (xx * c00 + xy * c01 + zx * c02);
+  m = Block3{{c00 * r, c11 * r, c22 * r, 0}, {c01 * r, c12 * r, c02 * r, 0}};
+}
+
+}  // namespace
+#endif  // TROCAR_HAVE_X86
+
+ImplicitAvx2::ImplicitAvx2(const MassSpringSettings& settings)
+    : settings_(settings), springs_(make_spring_quads(settings.springs)) {
+  const std::size_t n = settings.vertex_count();
+  cache_.resize(springs_.size());
+  for (std::size_t q = 0; q < springs_.size(); ++q)
+    for (int k = 0; k < 4; ++k) {
+      cache_[q].i[k] = springs_[q].i[k];
+      cache_[q].j[k] = springs_[q].j[k];
+    }
+  for (std::vector<Padded3>* a : {&x_, &v_, &rest_, &f_, &dv_, &r_, &p_, &z_, &q_, &gradient_}) a->assign(n, Padded3{});
+  copy_padded(settings.rest_positions.data(), n, rest_.data());
+  preconditioner_.assign(n, Block3{});
+  diagonal_mass_.assign(n, 0.0);
+  free_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) free_[i] = settings.fixed[i] ? 0.0 : 1.0;
+}
+
+bool ImplicitAvx2::supports(const MassSpringSettings& s, const ForceTerms& terms) {
+  const bool area = terms.area && s.k_area > 0 && s.mean_rest_area > 0 && s.rest_areas.size() == s.triangles.size();
+  return !area;
+}
+
+#ifdef TROCAR_HAVE_X86
+
+TROCAR_AVX2 void ImplicitAvx2::linearise(const TissueLoads& loads, Real h, const ForceTerms& terms) {
+  const MassSpringSettings& s = settings_;
+  const std::size_t n = s.vertex_count();
+  // Per-vertex terms: f = f_ext + m (g − γ v) − k_home (x − x0 + h v); A_ii = m (1 + hγ) + h² k_home.
+  {
+    const Real gamma = terms.global_damping ? s.damping : 0.0;
+    const Real k_home = terms.home ? s.k_home : 0.0;
+    const __m256d g = terms.gravity ? vec3(s.gravity) : _mm256_setzero_pd();
+    const __m256d gamma_v = _mm256_set1_pd(gamma), k_home_v = _mm256_set1_pd(k_home), h_v = _mm256_set1_pd(h);
+    const __m256d xyz = _mm256_setr_pd(1, 1, 1, 0);
+    const bool external = loads.forces.size() == n;
+    for (std::size_t i = 0; i < n; ++i) {
+      const __m256d vi = load(v_[i]);
+      __m256d fi = external ? _mm256_setr_pd(loads.forces[i][0], loads.forces[i][1], loads.forces[i][2], 0)
+                            : _mm256_setzero_pd();
+      fi = _mm256_fmadd_pd(_mm256_set1_pd(s.masses[i]), _mm256_fnmadd_pd(gamma_v, vi, g), fi);
+      fi = _mm256_fnmadd_pd(k_home_v, _mm256_add_pd(_mm256_sub_pd(load(x_[i]), load(rest_[i])), _mm256_mul_pd(h_v, vi)), fi);
+      store(f_[i], fi);
+      const Real d = s.masses[i] * (1 + h * gamma) + h * h * k_home;
+      diagonal_mass_[i] = d;
+      _mm256_store_pd(preconditioner_[i].diagonal, _mm256_mul_pd(_mm256_set1_pd(d), xyz));
+      _mm256_store_pd(preconditioner_[i].off, _mm256_setzero_pd());
+    }
+  }
+
+  // Springs, four at a time: the force σ d (+ h K_s v₀ = h k (c δv + (1 − c)(u·δv) u)), the
+  // cached block (u, a, b) and A_ii += a u uᵀ + b I at both ends. With u·δv = (d·δv)/|d|:
+  //   f_i += (σ + h k (1 − c) (d·δv)/|d|²) d + h k c δv,   f_j −= the same.
+  if (terms.springs) {
+    const __m256d tiny = _mm256_set1_pd(kTinyLength2), one = _mm256_set1_pd(1.0), zero = _mm256_setzero_pd();
+    const __m256d h_v = _mm256_set1_pd(h), xyz = _mm256_setr_pd(1, 1, 1, 0);
+    const Padded3* x = x_.data();
+    const Padded3* v = v_.data();
+    Padded3* f = f_.data();
+    Block3* pre = preconditioner_.data();
+    for (std::size_t qi = 0; qi < springs_.size(); ++qi) {
+      const SpringQuad& sq = springs_[qi];
+      CgSpringQuad& cq = cache_[qi];
+      __m256d d[4], w[4];
+      for (int k = 0; k < 4; ++k) {
+        d[k] = _mm256_sub_pd(load_at(x, sq.j[k]), load_at(x, sq.i[k]));
+        w[k] = _mm256_sub_pd(load_at(v, sq.j[k]), load_at(v, sq.i[k]));
+      }
+      const __m256d len2 = horizontal_sums(_mm256_mul_pd(d[0], d[0]), _mm256_mul_pd(d[1], d[1]),
+                                           _mm256_mul_pd(d[2], d[2]), _mm256_mul_pd(d[3], d[3]));
+      const __m256d speed = horizontal_sums(_mm256_mul_pd(w[0], d[0]), _mm256_mul_pd(w[1], d[1]),
+                                            _mm256_mul_pd(w[2], d[2]), _mm256_mul_pd(w[3], d[3]));
+      const __m256d inv =
+          _mm256_and_pd(_mm256_div_pd(one, _mm256_sqrt_pd(len2)), _mm256_cmp_pd(len2, tiny, _CMP_GT_OQ));
+      const __m256d rest = _mm256_load_pd(sq.rest_length), k_v = _mm256_load_pd(sq.stiffness);
+      const __m256d lambda = _mm256_load_pd(sq.damping);
+      const __m256d inv2 = _mm256_mul_pd(inv, inv);
+      const __m256d sigma = _mm256_fmadd_pd(_mm256_mul_pd(k_v, _mm256_sub_pd(_mm256_mul_pd(len2, inv), rest)), inv,
+                                            _mm256_mul_pd(_mm256_mul_pd(lambda, speed), inv2));
+      const __m256d c = _mm256_max_pd(zero, _mm256_fnmadd_pd(rest, inv, one));  // max(0, 1 − l/|d|)
+      const __m256d hk = _mm256_mul_pd(h_v, k_v);
+      const __m256d one_minus_c = _mm256_sub_pd(one, c);
+      const __m256d a = _mm256_mul_pd(h_v, _mm256_fmadd_pd(hk, one_minus_c, lambda));
+      const __m256d b = _mm256_mul_pd(_mm256_mul_pd(h_v, hk), c);
+      _mm256_store_pd(cq.a, a);
+      _mm256_store_pd(cq.b, b);
+      alignas(32) Real along_d[4], along_w[4], inv_s[4];
+      _mm256_store_pd(along_d, _mm256_fmadd_pd(_mm256_mul_pd(hk, one_minus_c), _mm256_mul_pd(speed, inv2), sigma));
+      _mm256_store_pd(along_w, _mm256_mul_pd(hk, c));
+      _mm256_store_pd(inv_s, inv);
+      for (int k = 0; k < 4; ++k) {
+        const __m256d u = _mm256_mul_pd(_mm256_broadcast_sd(&inv_s[k]), d[k]);
+        _mm256_store_pd(cq.u[k], u);
+        const __m256d t =
+            _mm256_fmadd_pd(_mm256_broadcast_sd(&along_d[k]), d[k], _mm256_mul_pd(_mm256_broadcast_sd(&along_w[k]), w[k]));
+        add_at(f, sq.i[k], t);
+        subtract_at(f, sq.j[k], t);
+        // a u uᵀ + b I: diagonal a u∘u + b (1, 1, 1, 0); off-diagonal a (ux uy, uy uz, uz ux).
+        const __m256d ak = _mm256_broadcast_sd(&cq.a[k]);
+        const __m256d diagonal = _mm256_fmadd_pd(_mm256_mul_pd(ak, u), u, _mm256_mul_pd(_mm256_broadcast_sd(&cq.b[k]), xyz));
+        const __m256d off = _mm256_mul_pd(_mm256_mul_pd(ak, u), yzx(u));
+        add_block(pre, sq.i[k], diagonal, off);
+        add_block(pre, sq.j[k], diagonal, off);
+      }
+    }
+  }
+
+  // Volume: ∇V_i = Σ_{t∋i} n_t/6; f += (−κ_V (V − V0) − h κ_V (∇V·v₀)) ∇V; A_ii += h² κ_V ∇V_i ∇V_iᵀ.
+  const bool volume = terms.volume && s.closed && s.k_volume > 0 && s.rest_volume > 0 && !s.triangles.empty();
+  if (volume) {
+    std::fill(gradient_.begin(), gradient_.end(), Padded3{});
+    six_volume_ = add_volume_gradient(s, x_.data(), gradient_.data(), true);
+    const __m256d sixth = _mm256_set1_pd(1.0 / 6.0);
+    __m256d slope = _mm256_setzero_pd();
+    for (std::size_t i = 0; i < n; ++i) {
+      const __m256d g = _mm256_mul_pd(sixth, load(gradient_[i]));
+      store(gradient_[i], g);
+      slope = _mm256_fmadd_pd(g, load(v_[i]), slope);
+    }
+    const Real kappa_v = s.k_volume / s.rest_volume;
+    const __m256d coef = _mm256_set1_pd(-kappa_v * (six_volume_ / 6.0 - s.rest_volume + h * sum(slope)));
+    const __m256d c2 = _mm256_set1_pd(h * h * kappa_v);
+    for (std::size_t i = 0; i < n; ++i) {
+      const __m256d g = load(gradient_[i]);
+      store(f_[i], _mm256_fmadd_pd(coef, g, load(f_[i])));
+      const __m256d c2g = _mm256_mul_pd(c2, g);
+      Block3& m = preconditioner_[i];
+      _mm256_store_pd(m.diagonal, _mm256_fmadd_pd(c2g, g, _mm256_load_pd(m.diagonal)));
+      _mm256_store_pd(m.off, _mm256_fmadd_pd(c2g, yzx(g), _mm256_load_pd(m.off)));
+    }
+  }
+
+  // Contacts (few): h K v₀ at a = −h k w_a n (Σ_b w_b n·v₀_b); A_aa += (h μ + h² k) w_a² n nᵀ.
+  for (const ContactJacobian& c : loads.contacts) {
+    const __m256d nn = vec3(c.normal);
+    Real sv = 0;
+    for (int k = 0; k < 3; ++k) sv += c.weights[k] * sum(_mm256_mul_pd(nn, load(v_[c.vertices[k]])));
+    const Real g = -h * c.stiffness * sv;
+    const Real w = h * c.damping + h * h * c.stiffness;
+    for (int k = 0; k < 3; ++k) {
+      Padded3& fk = f_[c.vertices[k]];
+      store(fk, _mm256_fmadd_pd(_mm256_set1_pd(g * c.weights[k]), nn, load(fk)));
+      const __m256d wn = _mm256_mul_pd(_mm256_set1_pd(w * c.weights[k] * c.weights[k]), nn);
+      Block3& m = preconditioner_[c.vertices[k]];
+      _mm256_store_pd(m.diagonal, _mm256_fmadd_pd(wn, nn, _mm256_load_pd(m.diagonal)));
+      _mm256_store_pd(m.off, _mm256_fmadd_pd(wn, yzx(nn), _mm256_load_pd(m.off)));
+    }
+  }
+}
+
+TROCAR_AVX2 Real ImplicitAvx2::apply_system(const TissueLoads& loads, Real h, Real volume_slope,
+                                            const ForceTerms& terms) {
+  const Padded3* p = p_.data();
+  Padded3* out = q_.data();  // diagonal_mass · p on entry
+  __m256d pap_a = _mm256_setzero_pd(), pap_b = _mm256_setzero_pd();
+  // Springs: g = a (u·δ) u + b δ, δ = p_j − p_i; (A p)_i −= g, (A p)_j += g; pᵀ A p gains
+  // a (u·δ)² + b |δ|².
+  if (terms.springs) {
+    for (const CgSpringQuad& cq : cache_) {
+      __m256d delta[4], u[4];
+      for (int k = 0; k < 4; ++k) {
+        delta[k] = _mm256_sub_pd(load_at(p, cq.j[k]), load_at(p, cq.i[k]));
+        u[k] = _mm256_load_pd(cq.u[k]);
+      }
+      const __m256d ud = horizontal_sums(_mm256_mul_pd(u[0], delta[0]), _mm256_mul_pd(u[1], delta[1]),
+                                         _mm256_mul_pd(u[2], delta[2]), _mm256_mul_pd(u[3], delta[3]));
+      const __m256d aud = _mm256_mul_pd(_mm256_load_pd(cq.a), ud);
+      pap_a = _mm256_fmadd_pd(aud, ud, pap_a);
+      alignas(32) Real aud_s[4];
+      _mm256_store_pd(aud_s, aud);
+      for (int k = 0; k < 4; ++k) {
+        const __m256d b_delta = _mm256_mul_pd(_mm256_broadcast_sd(&cq.b[k]), delta[k]);
+        const __m256d g = _mm256_fmadd_pd(_mm256_broadcast_sd(&aud_s[k]), u[k], b_delta);
+        pap_b = _mm256_fmadd_pd(b_delta, delta[k], pap_b);
+        subtract_at(out, cq.i[k], g);
+        add_at(out, cq.j[k], g);
+      }
+    }
+  }
+  // Contacts: (A p)_a += (h μ + h² k) w_a n (Σ_b w_b n·p_b).
+  Real pap_contacts = 0;
+  for (const ContactJacobian& c : loads.contacts) {
+    const __m256d nn = vec3(c.normal);
+    Real sl = 0;
+    for (int k = 0; k < 3; ++k) sl += c.weights[k] * sum(_mm256_mul_pd(nn, load(p[c.vertices[k]])));
+    const Real g = (h * c.damping + h * h * c.stiffness) * sl;
+    for (int k = 0; k < 3; ++k) {
+      Padded3& o = out[c.vertices[k]];
+      store(o, _mm256_fmadd_pd(_mm256_set1_pd(g * c.weights[k]), nn, load(o)));
+    }
+    pap_contacts += g * sl;
+  }
+  const MassSpringSettings& s = settings_;
+  const bool volume = terms.volume && s.closed && s.k_volume > 0 && s.rest_volume > 0 && !s.triangles.empty();
+  const Real pap_volume = volume ? h * h * s.k_volume / s.rest_volume * volume_slope * volume_slope : 0.0;
+  return sum(pap_a) + sum(pap_b) + pap_contacts + pap_volume;
+}
+
+TROCAR_AVX2 StepStats ImplicitAvx2::step(MassSpringState& state, const TissueLoads& loads, Real h,
+                                         const ForceTerms& terms, const ImplicitOptions& options) {
+  const MassSpringSettings& s = settings_;
+  const std::size_t n = s.vertex_count();
+  copy_padded(state.positions.data(), n, x_.data());
+  copy_padded(state.velocities.data(), n, v_.data());
+  linearise(loads, h, terms);
+
+  const bool volume = terms.volume && s.closed && s.k_volume > 0 && s.rest_volume > 0 && !s.triangles.empty();
+  const Real c_volume = volume ? h * h * s.k_volume / s.rest_volume : 0.0;
+  const Padded3* gv = gradient_.data();
+  const Real* free = free_.data();
+  const Real* dm = diagonal_mass_.data();
+  const __m256d zero = _mm256_setzero_pd();
+
+  // b = S h f; r = b; the preconditioner inverted (0 at fixed vertices); the warm start.
+  __m256d bb_v = zero, slope_v = zero, warm_v = zero;
+  for (std::size_t i = 0; i < n; ++i) {
+    const __m256d b = _mm256_mul_pd(_mm256_set1_pd(free[i] * h), load(f_[i]));
+    store(r_[i], b);
+    bb_v = _mm256_fmadd_pd(b, b, bb_v);
+    if (free[i] != 0)
+      invert(preconditioner_[i]);
+    else
+      preconditioner_[i] = Block3{};
+    const __m256d d = _mm256_mul_pd(_mm256_set1_pd(free[i]), load(dv_[i]));
+    store(p_[i], d);
+    warm_v = _mm256_or_pd(warm_v, _mm256_cmp_pd(d, zero, _CMP_NEQ_UQ));
+    store(q_[i], _mm256_mul_pd(_mm256_set1_pd(dm[i]), d));
+    if (volume) slope_v = _mm256_fmadd_pd(load(gv[i]), d, slope_v);
+  }
+  const Real bb = sum(bb_v);
+  bool warm = _mm256_movemask_pd(warm_v) != 0;
+  StepStats stats;
+  if (!(bb > 0 && std::isfinite(bb)) || !warm) {
+    std::fill(dv_.begin(), dv_.end(), Padded3{});
+    warm = false;
+  }
+  Real slope = sum(slope_v);
+  if (warm) apply_system(loads, h, slope, terms);
+  const __m256d warm_volume = _mm256_set1_pd(c_volume * slope);
+  __m256d rho_v = zero, rr_v = zero, mpp_v = zero;
+  slope_v = zero;
+  for (std::size_t i = 0; i < n; ++i) {
+    __m256d ri = load(r_[i]);
+    if (warm) {
+      ri = _mm256_fnmadd_pd(_mm256_set1_pd(free[i]), _mm256_fmadd_pd(warm_volume, load(gv[i]), load(q_[i])), ri);
+      store(r_[i], ri);
+    }
+    rr_v = _mm256_fmadd_pd(ri, ri, rr_v);
+    const __m256d zi = block_times(preconditioner_[i], ri);
+    rho_v = _mm256_fmadd_pd(ri, zi, rho_v);
+    store(p_[i], zi);
+    const __m256d dmi = _mm256_set1_pd(dm[i]);
+    store(q_[i], _mm256_mul_pd(dmi, zi));
+    mpp_v = _mm256_fmadd_pd(_mm256_mul_pd(dmi, zi), zi, mpp_v);
+    if (volume) slope_v = _mm256_fmadd_pd(load(gv[i]), zi, slope_v);
+  }
+  Real rho = sum(rho_v), rr = sum(rr_v), mpp = sum(mpp_v);
+  slope = sum(slope_v);
+  const Real tolerance2 = options.cg_tolerance * options.cg_tolerance * bb;
+  const Real floor = kVelocityFloorPerTolerance * options.cg_tolerance;
+  if (bb > 0 && std::isfinite(bb) && rr > 0) {
+    while (stats.cg_iterations < options.max_cg_iterations) {
+      const Real pap = mpp + apply_system(loads, h, slope, terms);
+      if (!(pap > 0)) break;
+      const __m256d alpha = _mm256_set1_pd(rho / pap);
+      const __m256d cv = _mm256_set1_pd(c_volume * slope);
+      rr_v = zero;
+      __m256d rho_next_v = zero, zmax_v = zero;
+      for (std::size_t i = 0; i < n; ++i) {
+        const __m256d q = _mm256_mul_pd(_mm256_set1_pd(free[i]), _mm256_fmadd_pd(cv, load(gv[i]), load(q_[i])));
+        store(dv_[i], _mm256_fmadd_pd(alpha, load(p_[i]), load(dv_[i])));
+        const __m256d ri = _mm256_fnmadd_pd(alpha, q, load(r_[i]));
+        store(r_[i], ri);
+        rr_v = _mm256_fmadd_pd(ri, ri, rr_v);
+        const __m256d zi = block_times(preconditioner_[i], ri);
+        store(z_[i], zi);
+        rho_next_v = _mm256_fmadd_pd(ri, zi, rho_next_v);
+        zmax_v = _mm256_max_pd(zmax_v, absolute(zi));
+      }
+      ++stats.cg_iterations;
+      rr = sum(rr_v);
+      if (rr <= tolerance2 || max_lane(zmax_v) <= floor) break;
+      const Real rho_next = sum(rho_next_v);
+      const __m256d beta = _mm256_set1_pd(rho_next / rho);
+      rho = rho_next;
+      slope_v = zero;
+      mpp_v = zero;
+      for (std::size_t i = 0; i < n; ++i) {
+        const __m256d pi = _mm256_fmadd_pd(beta, load(p_[i]), load(z_[i]));
+        store(p_[i], pi);
+        const __m256d dpi = _mm256_mul_pd(_mm256_set1_pd(dm[i]), pi);
+        store(q_[i], dpi);
+        mpp_v = _mm256_fmadd_pd(dpi, pi, mpp_v);
+        if (volume) slope_v = _mm256_fmadd_pd(load(gv[i]), pi, slope_v);
+      }
+      mpp = sum(mpp_v);
+      slope = sum(slope_v);
+    }
+  }
+  stats.cg_residual = bb > 0 ? std::sqrt(rr / bb) : 0.0;
+
+  // v₁ = v₀ + Δv, x₁ = x₀ + h v₁.
+  const __m256d h_v = _mm256_set1_pd(h);
+  __m256d check = zero;
+  for (std::size_t i = 0; i < n; ++i) {
+    const __m256d vi = _mm256_add_pd(load(v_[i]), load(dv_[i]));
+    const __m256d xi = _mm256_fmadd_pd(h_v, vi, load(x_[i]));
+    alignas(32) Real xs[4], vs[4];
+    _mm256_store_pd(xs, xi);
+    _mm256_store_pd(vs, vi);
+    state.positions[i] = Vec3(xs[0], xs[1], xs[2]);
+    state.velocities[i] = Vec3(vs[0], vs[1], vs[2]);
+    check = _mm256_add_pd(check, _mm256_add_pd(xi, vi));
+  }
+  stats.finite = std::isfinite(sum(check)) && std::isfinite(bb);
+  if (!stats.finite) std::fill(dv_.begin(), dv_.end(), Padded3{});  // no warm start from garbage
+  return stats;
+}
+
+#else  // not x86: never constructed (cpu_has_avx2_fma() is false)
+
+void ImplicitAvx2::linearise(const TissueLoads&, Real, const ForceTerms&) {}
+Real ImplicitAvx2::apply_system(const TissueLoads&, Real, Real, const ForceTerms&) { return 0; }
+StepStats ImplicitAvx2::step(MassSpringState&, const TissueLoads&, Real, const ForceTerms&, const ImplicitOptions&) {
+  return {};
+}
+
+#endif  // TROCAR_HAVE_X86
+
+}  // namespace trocar::tissue_detail
