@@ -43,11 +43,4 @@ Aabb object_box(const CollisionObject& object) {
   return box.inflated(kBoxMargin * box.size().maxCoeff());
 }
 
-Aabb triangle_box(const Vec3& a, const Vec3& b, const Vec3& c) {
-  Aabb box;
-  box.min = a.cwiseMin(b).cwiseMin(c);
-  box.max = a.cwiseMax(b).cwiseMax(c);
-  return box.inflated(kBoxMargin * box.size().maxCoeff());
-}
-
 }  // namespace trocar

@@ -56,7 +56,13 @@ std::unique_ptr<BroadPhase> make_broad_phase(BroadPhaseKind kind);
 /// object has no triangles).
 Aabb object_box(const CollisionObject& object);
 
-/// Box of one triangle, inflated by kBoxMargin of its largest side.
-Aabb triangle_box(const Vec3& a, const Vec3& b, const Vec3& c);
+/// Box of one triangle, inflated by kBoxMargin of its largest side. Inline: the OHC and BVH
+/// call it for every triangle they open, every frame.
+inline Aabb triangle_box(const Vec3& a, const Vec3& b, const Vec3& c) {
+  Aabb box;
+  box.min = a.cwiseMin(b).cwiseMin(c);
+  box.max = a.cwiseMax(b).cwiseMax(c);
+  return box.inflated(kBoxMargin * box.size().maxCoeff());
+}
 
 }  // namespace trocar
