@@ -214,7 +214,7 @@ TEST(MeshDistance, BatchQueriesEqualSingleQueries) {
   const TriMesh mesh = bumped_sphere();
   MeshDistance md(sphere_mesh(3, 1.0).positions, mesh.triangles);
   md.refit(mesh.positions);
-  std::vector<std::uint32_t> scratch(mesh.triangles.size());
+  MeshDistance::BatchScratch scratch(mesh.triangles.size());
   std::mt19937_64 rng(12);
   std::uniform_real_distribution<Real> u(-1, 1);
   for (int batch = 0; batch < 400; ++batch) {

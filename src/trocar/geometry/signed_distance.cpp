@@ -197,9 +197,17 @@ SignedDistanceResult MeshDistance::signed_distance(const Vec3& p, std::uint32_t 
   return finish(p, best_t, best_c, best);
 }
 
+MeshDistance::BatchScratch::BatchScratch(std::size_t triangles) : ids_(triangles), gap_(triangles) {
+  for (std::vector<Real>& v : box_) v.resize(triangles);
+}
+
 void MeshDistance::signed_distances(std::span<const Vec3> points, std::span<std::uint32_t> hints,
                                     std::span<SignedDistanceResult> results,
-                                    std::span<std::uint32_t> scratch) const {
+                                    BatchScratch& scratch) const {
+  if (scratch.ids_.size() < triangles_.size()) {
+    throw Error("MeshDistance::signed_distances: scratch for " + std::to_string(scratch.ids_.size()) +
+                " triangles, the mesh has " + std::to_string(triangles_.size()));
+  }
   // Seed: each point's squared distance to its hint triangle (a tree query when it has none).
   Aabb region;
   Real radius_squared = 0;
@@ -226,33 +234,56 @@ void MeshDistance::signed_distances(std::span<const Vec3> points, std::span<std:
   // largest seed, so the walk below finds every triangle that can improve on a seed.
   std::size_t count = 0;
   tree_.for_each_near(region, radius_squared, [&](std::uint32_t t) {
-    if (AabbTree::distance_squared(boxes_[t], region) < radius_squared) scratch[count++] = t;
-  });
-  const std::span<const std::uint32_t> candidates = scratch.first(count);
-  for (std::size_t k = 0; k < points.size(); ++k) {
-    const Vec3& p = points[k];
-    SignedDistanceResult& r = results[k];
-    Real best = r.distance;
-    std::uint32_t best_t = r.triangle;
-    TriangleClosestPoint best_c;
-    best_c.point = r.closest_point;
-    best_c.feature = r.feature;
-    best_c.index = r.feature_index;
-    for (const std::uint32_t t : candidates) {
-      if (!(AabbTree::distance_squared(boxes_[t], p) < best)) continue;
-      const Triangle& tri = triangles_[t];
-      if (plane_is_no_nearer(p, positions_[tri[0]], positions_[tri[1]], positions_[tri[2]], best)) continue;
-      const TriangleClosestPoint c = closest_point_on_triangle(p, positions_[tri[0]], positions_[tri[1]], positions_[tri[2]]);
-      const Real d2 = (p - c.point).squaredNorm();
-      if (d2 < best) {
-        best = d2;
-        best_t = t;
-        best_c = c;
-      }
+    const Aabb& box = boxes_[t];
+    if (!(AabbTree::distance_squared(box, region) < radius_squared)) return;
+    scratch.ids_[count] = t;
+    for (int a = 0; a < 3; ++a) {
+      scratch.box_[a][count] = box.min[a];
+      scratch.box_[3 + a][count] = box.max[a];
     }
-    r = finish(p, best_t, best_c, best);
-    hints[k] = best_t;
+    ++count;
+  });
+  for (std::size_t k = 0; k < points.size(); ++k) results[k] = nearest_among(points[k], results[k], count, scratch);
+  for (std::size_t k = 0; k < points.size(); ++k) hints[k] = results[k].triangle;
+}
+
+SignedDistanceResult MeshDistance::nearest_among(const Vec3& p, const SignedDistanceResult& seed,
+                                                 std::size_t count, BatchScratch& scratch) const {
+  // Squared distances from p to all candidate boxes first: a branch-free loop over the
+  // coordinate arrays that the compiler vectorises (same values as AabbTree::distance_squared).
+  Real* gap = scratch.gap_.data();
+  for (std::size_t j = 0; j < count; ++j) gap[j] = 0;
+  for (int a = 0; a < 3; ++a) {
+    const Real* lo = scratch.box_[a].data();
+    const Real* hi = scratch.box_[3 + a].data();
+    const Real pa = p[a];
+    for (std::size_t j = 0; j < count; ++j) {
+      const Real below = lo[j] - pa;
+      const Real above = pa - hi[j];
+      const Real g = (below > 0 ? below : 0) + (above > 0 ? above : 0);
+      gap[j] += g * g;
+    }
   }
+  Real best = seed.distance;  // squared
+  std::uint32_t best_t = seed.triangle;
+  TriangleClosestPoint best_c;
+  best_c.point = seed.closest_point;
+  best_c.feature = seed.feature;
+  best_c.index = seed.feature_index;
+  for (std::size_t j = 0; j < count; ++j) {
+    if (!(gap[j] < best)) continue;
+    const std::uint32_t t = scratch.ids_[j];
+    const Triangle& tri = triangles_[t];
+    if (plane_is_no_nearer(p, positions_[tri[0]], positions_[tri[1]], positions_[tri[2]], best)) continue;
+    const TriangleClosestPoint c = closest_point_on_triangle(p, positions_[tri[0]], positions_[tri[1]], positions_[tri[2]]);
+    const Real d2 = (p - c.point).squaredNorm();
+    if (d2 < best) {
+      best = d2;
+      best_t = t;
+      best_c = c;
+    }
+  }
+  return finish(p, best_t, best_c, best);
 }
 
 SignedDistanceResult MeshDistance::signed_distance_brute_force(const Vec3& p) const {

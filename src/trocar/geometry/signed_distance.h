@@ -60,16 +60,29 @@ class MeshDistance {
   /// triangle of the previous query from a nearby point), seeds the search bound with p's
   /// distance to it, so fewer nodes are visited; the result's distance is the same.
   SignedDistanceResult signed_distance(const Vec3& p, std::uint32_t hint = kNoTriangle) const;
+  /// Work space of signed_distances(): the candidate triangles of a batch and their boxes, one
+  /// array per coordinate so that the per-point box test runs as a vector loop. Sized once.
+  class BatchScratch {
+   public:
+    /// Room for a batch on a mesh of up to `triangles` triangles.
+    explicit BatchScratch(std::size_t triangles = 0);
+
+   private:
+    friend class MeshDistance;
+    std::vector<std::uint32_t> ids_;
+    std::vector<Real> box_[6];  // min x, y, z, max x, y, z of each candidate
+    std::vector<Real> gap_;     // squared distance from the current point to each box
+  };
+
   /// Signed distances of a batch of nearby points (e.g. an instrument's vertices near this mesh):
   /// results[k] is what signed_distance(points[k], hints[k]) gives, and hints[k] becomes its
   /// triangle. Instead of one tree walk per point, each point's distance to its hint triangle
   /// bounds its search; one walk collects every triangle whose box is nearer than the largest
   /// bound to the batch's box (no other triangle can be nearest to any of the points), and each
-  /// point scans only those. Points without a hint get a tree query first. `scratch` needs
-  /// triangles().size() entries. No allocation.
+  /// point scans only those. Points without a hint get a tree query first. `scratch` must have
+  /// room for triangles().size() (throws trocar::Error otherwise). No allocation.
   void signed_distances(std::span<const Vec3> points, std::span<std::uint32_t> hints,
-                        std::span<SignedDistanceResult> results,
-                        std::span<std::uint32_t> scratch) const;
+                        std::span<SignedDistanceResult> results, BatchScratch& scratch) const;
   /// Same as signed_distance() by testing every triangle (a reference for tests; O(n)).
   SignedDistanceResult signed_distance_brute_force(const Vec3& p) const;
 
@@ -92,6 +105,10 @@ class MeshDistance {
   Vec3 weighted_corner_normal(std::uint32_t t, std::size_t k, const Vec3& n) const;
   SignedDistanceResult finish(const Vec3& p, std::uint32_t t, const TriangleClosestPoint& c,
                               Real d2) const;
+  /// p's nearest triangle among the first `count` candidates in scratch, starting from seed
+  /// (whose distance field holds the squared distance).
+  SignedDistanceResult nearest_among(const Vec3& p, const SignedDistanceResult& seed,
+                                     std::size_t count, BatchScratch& scratch) const;
 
   std::vector<Vec3> positions_;
   std::vector<Triangle> triangles_;

@@ -133,7 +133,7 @@ Simulation::Simulation(World world, const SimulationSettings& settings)
   std::size_t most_triangles = 0;
   for (std::size_t t = 0; t < nt; ++t)
     if (distances_[t]) most_triangles = std::max(most_triangles, world_.tissues[t]->settings.triangles.size());
-  query_scratch_.resize(most_triangles);
+  query_scratch_ = MeshDistance::BatchScratch(most_triangles);
 }
 
 const StepMetrics& Simulation::step(Real dt) {

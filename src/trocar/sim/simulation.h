@@ -153,7 +153,7 @@ class Simulation {
   /// Per instrument: its vertex ids in a spatially coherent order (the penetration queries go in
   /// batches of consecutive vertices in the tissue's box).
   std::vector<std::vector<std::uint32_t>> query_order_;
-  std::vector<std::uint32_t> query_scratch_;  ///< candidate triangles of one query batch
+  MeshDistance::BatchScratch query_scratch_;  ///< candidate triangles of one query batch
   StepMetrics metrics_;
   Real time_ = 0;
   std::uint64_t steps_ = 0;
