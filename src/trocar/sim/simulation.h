@@ -35,7 +35,7 @@ struct StageTimings {
   double narrow_phase = 0;  ///< exact triangle tests
   double response = 0;      ///< contacts → loads
   double deformation = 0;   ///< integrators, corrections, grasps
-  double metrics = 0;       ///< penetration, tunneling, energies
+  double metrics = 0;       ///< penetration, tunneling, energies (and the start-surface copy)
   double step = 0;          ///< the whole step
 };
 
@@ -72,10 +72,9 @@ struct StepMetrics {
 /// step() allocates nothing, takes no lock, throws nothing and logs nothing (as long as the
 /// contact count stays within what the detector has already held).
 ///
-/// Metrics (DESIGN.md §6). Penetration: for each instrument and each closed tissue whose
-/// bounding box (inflated by the instrument's thickness) meets the instrument's box, the
-/// tissue's MeshDistance is refitted to the deformed positions once per step and every
-/// instrument vertex inside the tissue's own box (grown by kBoxSlack against rounding) is
+/// Metrics (DESIGN.md §6). Penetration: for each closed tissue whose bounding box (grown by 1 nm
+/// against rounding) holds some instrument vertex, the tissue's MeshDistance is
+/// refitted to the deformed positions once per step and every instrument vertex in that box is
 /// queried, seeded with the triangle that vertex was nearest to last time; a vertex outside that
 /// box is outside the tissue (outside the hull of its vertices; its distance is recorded as
 /// +inf: only the sign of an outside vertex's distance enters the metrics). The queries go in
@@ -118,7 +117,8 @@ class Simulation {
   void deform(Real dt);
   void measure();
   void measure_penetration(std::size_t tissue);
-  void measure_pair(std::size_t instrument, std::size_t tissue, const Aabb& tissue_box);
+  /// Queries the instrument's vertices in inside_box (the tissue's box, grown by 1 nm).
+  void measure_pair(std::size_t instrument, std::size_t tissue, const Aabb& inside_box);
   /// Counts vertex v of an instrument, at signed distance d < 0 inside a tissue, and its
   /// tunneling event if any.
   void count_inside(const InstrumentBody& body, std::size_t instrument, std::size_t tissue,
