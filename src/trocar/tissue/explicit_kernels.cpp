@@ -126,15 +126,26 @@ TROCAR_AVX2 inline void subtract_at(Padded3* base, std::uint32_t offset, __m256d
   _mm256_store_pd(p, _mm256_sub_pd(_mm256_load_pd(p), a));
 }
 
+/// kStar: the quad's four springs share their first vertex (SpringLayout::stars), so x_i and v_i
+/// are loaded once and f_i gets one read-modify-write of the four forces' sum.
+template <bool kStar>
 TROCAR_AVX2 void spring_forces_avx2(const SpringQuad* quads, std::size_t count, const Padded3* x, const Padded3* v,
                                     Padded3* f) {
   const __m256d tiny = _mm256_set1_pd(kTinyLength2), one = _mm256_set1_pd(1.0);
   for (std::size_t q = 0; q < count; ++q) {
     const SpringQuad& s = quads[q];
     __m256d d[4], w[4];
-    for (int k = 0; k < 4; ++k) {
-      d[k] = _mm256_sub_pd(load_at(x, s.j[k]), load_at(x, s.i[k]));
-      w[k] = _mm256_sub_pd(load_at(v, s.j[k]), load_at(v, s.i[k]));
+    if constexpr (kStar) {
+      const __m256d xi = load_at(x, s.i[0]), vi = load_at(v, s.i[0]);
+      for (int k = 0; k < 4; ++k) {
+        d[k] = _mm256_sub_pd(load_at(x, s.j[k]), xi);
+        w[k] = _mm256_sub_pd(load_at(v, s.j[k]), vi);
+      }
+    } else {
+      for (int k = 0; k < 4; ++k) {
+        d[k] = _mm256_sub_pd(load_at(x, s.j[k]), load_at(x, s.i[k]));
+        w[k] = _mm256_sub_pd(load_at(v, s.j[k]), load_at(v, s.i[k]));
+      }
     }
     const __m256d len2 = horizontal_sums(_mm256_mul_pd(d[0], d[0]), _mm256_mul_pd(d[1], d[1]),
                                          _mm256_mul_pd(d[2], d[2]), _mm256_mul_pd(d[3], d[3]));
@@ -147,11 +158,16 @@ TROCAR_AVX2 void spring_forces_avx2(const SpringQuad* quads, std::size_t count, 
     const __m256d damping = _mm256_mul_pd(_mm256_mul_pd(_mm256_load_pd(s.damping), speed), _mm256_mul_pd(inv, inv));
     alignas(32) Real sigma[4];
     _mm256_store_pd(sigma, _mm256_fmadd_pd(_mm256_mul_pd(_mm256_load_pd(s.stiffness), stretch), inv, damping));
+    __m256d sum = _mm256_setzero_pd();
     for (int k = 0; k < 4; ++k) {
       const __m256d fk = _mm256_mul_pd(_mm256_broadcast_sd(&sigma[k]), d[k]);
-      add_at(f, s.i[k], fk);
+      if constexpr (kStar)
+        sum = _mm256_add_pd(sum, fk);
+      else
+        add_at(f, s.i[k], fk);
       subtract_at(f, s.j[k], fk);
     }
+    if constexpr (kStar) add_at(f, s.i[0], sum);
   }
 }
 
@@ -220,18 +236,52 @@ TROCAR_AVX2 void copy_padded_avx2(const Vec3* p, std::size_t n, Padded3* out) {
 
 }  // namespace
 
+namespace {
+void put(SpringQuad& q, std::size_t k, const Spring& sp, bool flip) {
+  q.i[k] = static_cast<std::uint32_t>((flip ? sp.j : sp.i) * sizeof(Padded3));
+  q.j[k] = static_cast<std::uint32_t>((flip ? sp.i : sp.j) * sizeof(Padded3));
+  q.rest_length[k] = sp.rest_length;
+  q.stiffness[k] = sp.stiffness;
+  q.damping[k] = sp.damping;
+}
+}  // namespace
+
 std::vector<SpringQuad> make_spring_quads(const std::vector<Spring>& springs) {
   std::vector<SpringQuad> quads((springs.size() + 3) / 4);
-  for (std::size_t e = 0; e < springs.size(); ++e) {
-    SpringQuad& q = quads[e / 4];
-    const std::size_t k = e % 4;
-    q.i[k] = static_cast<std::uint32_t>(springs[e].i * sizeof(Padded3));
-    q.j[k] = static_cast<std::uint32_t>(springs[e].j * sizeof(Padded3));
-    q.rest_length[k] = springs[e].rest_length;
-    q.stiffness[k] = springs[e].stiffness;
-    q.damping[k] = springs[e].damping;
-  }
+  for (std::size_t e = 0; e < springs.size(); ++e) put(quads[e / 4], e % 4, springs[e], false);
   return quads;
+}
+
+SpringLayout make_spring_layout(const std::vector<Spring>& springs, std::size_t vertex_count) {
+  // Greedy: each vertex in turn takes its not yet placed springs four at a time (a spring's force
+  // is symmetric in its ends, so it may be flipped to start at the shared vertex); whatever is
+  // left over goes into ordinary quads, in the original order.
+  std::vector<std::vector<std::uint32_t>> incident(vertex_count);
+  for (std::size_t e = 0; e < springs.size(); ++e) {
+    incident[springs[e].i].push_back(static_cast<std::uint32_t>(e));
+    incident[springs[e].j].push_back(static_cast<std::uint32_t>(e));
+  }
+  std::vector<std::uint8_t> placed(springs.size(), 0);
+  SpringLayout layout;
+  std::vector<std::uint32_t> open;
+  for (std::size_t v = 0; v < vertex_count; ++v) {
+    open.clear();
+    for (const std::uint32_t e : incident[v])
+      if (!placed[e]) open.push_back(e);
+    for (std::size_t k = 0; k + 4 <= open.size(); k += 4) {
+      SpringQuad& q = layout.stars.emplace_back();
+      for (std::size_t m = 0; m < 4; ++m) {
+        const Spring& sp = springs[open[k + m]];
+        put(q, m, sp, sp.i != v);
+        placed[open[k + m]] = 1;
+      }
+    }
+  }
+  std::vector<Spring> rest;
+  for (std::size_t e = 0; e < springs.size(); ++e)
+    if (!placed[e]) rest.push_back(springs[e]);
+  layout.others = make_spring_quads(rest);
+  return layout;
 }
 
 bool cpu_has_avx2_fma() {
@@ -252,14 +302,18 @@ void copy_padded(const Vec3* p, std::size_t n, Padded3* out) {
   for (std::size_t i = 0; i < n; ++i) out[i] = Padded3{p[i][0], p[i][1], p[i][2], 0};
 }
 
-void add_spring_forces(const std::vector<SpringQuad>& quads, const Padded3* x, const Padded3* v, Padded3* f,
-                       bool use_avx2) {
+void add_spring_forces(const SpringLayout& layout, const Padded3* x, const Padded3* v, Padded3* f, bool use_avx2) {
 #ifdef TROCAR_HAVE_X86
-  if (use_avx2) return spring_forces_avx2(quads.data(), quads.size(), x, v, f);
+  if (use_avx2) {
+    spring_forces_avx2<true>(layout.stars.data(), layout.stars.size(), x, v, f);
+    spring_forces_avx2<false>(layout.others.data(), layout.others.size(), x, v, f);
+    return;
+  }
 #endif
   (void)use_avx2;
-  for (const SpringQuad& q : quads)
-    for (int k = 0; k < 4; ++k) spring_scalar(q, k, x, v, f);
+  for (const std::vector<SpringQuad>* quads : {&layout.stars, &layout.others})
+    for (const SpringQuad& q : *quads)
+      for (int k = 0; k < 4; ++k) spring_scalar(q, k, x, v, f);
 }
 
 Real add_volume_gradient(const MassSpringSettings& s, const Padded3* x, Padded3* g, bool use_avx2) {

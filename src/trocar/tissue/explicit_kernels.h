@@ -32,6 +32,14 @@ struct alignas(32) SpringQuad {
 /// itself, k = λ = 0), which add exactly zero.
 std::vector<SpringQuad> make_spring_quads(const std::vector<Spring>& springs);
 
+/// The springs as quads whose four springs share their first vertex (stars: x_i, v_i load once
+/// and f_i is written once) and ordinary quads for the rest.
+struct SpringLayout {
+  std::vector<SpringQuad> stars;
+  std::vector<SpringQuad> others;
+};
+SpringLayout make_spring_layout(const std::vector<Spring>& springs, std::size_t vertex_count);
+
 /// True when the running CPU has AVX2 and FMA (checked once).
 bool cpu_has_avx2_fma();
 
@@ -40,8 +48,7 @@ void copy_padded(const Vec3* p, std::size_t n, Padded3* out);
 
 /// f_i += the spring forces on i (eq. 3.2; forces.cpp's spring_forces) at positions x and
 /// velocities v (padded copies of the state).
-void add_spring_forces(const std::vector<SpringQuad>& quads, const Padded3* x, const Padded3* v, Padded3* f,
-                       bool use_avx2);
+void add_spring_forces(const SpringLayout& layout, const Padded3* x, const Padded3* v, Padded3* f, bool use_avx2);
 
 /// forces.cpp's scalar area pass into the padded layout (nothing when the area term is off).
 void add_area_forces(const MassSpringSettings& s, const Vec3* x, Padded3* f);

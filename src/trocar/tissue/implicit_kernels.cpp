@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "trocar/tissue/integrator.h"
 
@@ -88,18 +89,128 @@ void invert(Block3& m) {
   m = Block3{{c00 * r, c11 * r, c22 * r, 0}, {c01 * r, c12 * r, c02 * r, 0}};
 }
 
+/// Springs four at a time (kStar: the quad's springs share their first vertex, so x_i, v_i load
+/// once and f_i, A_ii get one read-modify-write each): the force σ d plus h K_s v₀ =
+/// h k (c δv + (1 − c)(u·δv) u), the cached block (u, a, b) and A_ii += a u uᵀ + b I at both
+/// ends. With u·δv = (d·δv)/|d|:  f_i += (σ + h k (1 − c)(d·δv)/|d|²) d + h k c δv,  f_j −= it.
+template <bool kStar>
+TROCAR_AVX2 void linearise_springs(const std::vector<SpringQuad>& quads, CgSpringQuad* cache, const Padded3* x,
+                                   const Padded3* v, Padded3* f, Block3* pre, Real h) {
+  const __m256d tiny = _mm256_set1_pd(kTinyLength2), one = _mm256_set1_pd(1.0), zero = _mm256_setzero_pd();
+  const __m256d h_v = _mm256_set1_pd(h), xyz = _mm256_setr_pd(1, 1, 1, 0);
+  for (std::size_t qi = 0; qi < quads.size(); ++qi) {
+    const SpringQuad& sq = quads[qi];
+    CgSpringQuad& cq = cache[qi];
+    __m256d d[4], w[4];
+    if constexpr (kStar) {
+      const __m256d xi = load_at(x, sq.i[0]), vi = load_at(v, sq.i[0]);
+      for (int k = 0; k < 4; ++k) {
+        d[k] = _mm256_sub_pd(load_at(x, sq.j[k]), xi);
+        w[k] = _mm256_sub_pd(load_at(v, sq.j[k]), vi);
+      }
+    } else {
+      for (int k = 0; k < 4; ++k) {
+        d[k] = _mm256_sub_pd(load_at(x, sq.j[k]), load_at(x, sq.i[k]));
+        w[k] = _mm256_sub_pd(load_at(v, sq.j[k]), load_at(v, sq.i[k]));
+      }
+    }
+    const __m256d len2 = horizontal_sums(_mm256_mul_pd(d[0], d[0]), _mm256_mul_pd(d[1], d[1]),
+                                         _mm256_mul_pd(d[2], d[2]), _mm256_mul_pd(d[3], d[3]));
+    const __m256d speed = horizontal_sums(_mm256_mul_pd(w[0], d[0]), _mm256_mul_pd(w[1], d[1]),
+                                          _mm256_mul_pd(w[2], d[2]), _mm256_mul_pd(w[3], d[3]));
+    const __m256d inv =
+        _mm256_and_pd(_mm256_div_pd(one, _mm256_sqrt_pd(len2)), _mm256_cmp_pd(len2, tiny, _CMP_GT_OQ));
+    const __m256d rest = _mm256_load_pd(sq.rest_length), k_v = _mm256_load_pd(sq.stiffness);
+    const __m256d lambda = _mm256_load_pd(sq.damping);
+    const __m256d inv2 = _mm256_mul_pd(inv, inv);
+    const __m256d sigma = _mm256_fmadd_pd(_mm256_mul_pd(k_v, _mm256_sub_pd(_mm256_mul_pd(len2, inv), rest)), inv,
+                                          _mm256_mul_pd(_mm256_mul_pd(lambda, speed), inv2));
+    const __m256d c = _mm256_max_pd(zero, _mm256_fnmadd_pd(rest, inv, one));  // max(0, 1 − l/|d|)
+    const __m256d hk = _mm256_mul_pd(h_v, k_v);
+    const __m256d one_minus_c = _mm256_sub_pd(one, c);
+    _mm256_store_pd(cq.a, _mm256_mul_pd(h_v, _mm256_fmadd_pd(hk, one_minus_c, lambda)));
+    _mm256_store_pd(cq.b, _mm256_mul_pd(_mm256_mul_pd(h_v, hk), c));
+    alignas(32) Real along_d[4], along_w[4], inv_s[4];
+    _mm256_store_pd(along_d, _mm256_fmadd_pd(_mm256_mul_pd(hk, one_minus_c), _mm256_mul_pd(speed, inv2), sigma));
+    _mm256_store_pd(along_w, _mm256_mul_pd(hk, c));
+    _mm256_store_pd(inv_s, inv);
+    __m256d t_sum = zero, diagonal_sum = zero, off_sum = zero;
+    for (int k = 0; k < 4; ++k) {
+      const __m256d u = _mm256_mul_pd(_mm256_broadcast_sd(&inv_s[k]), d[k]);
+      _mm256_store_pd(cq.u[k], u);
+      const __m256d t =
+          _mm256_fmadd_pd(_mm256_broadcast_sd(&along_d[k]), d[k], _mm256_mul_pd(_mm256_broadcast_sd(&along_w[k]), w[k]));
+      subtract_at(f, sq.j[k], t);
+      // a u uᵀ + b I: diagonal a u∘u + b (1, 1, 1, 0); off-diagonal a (ux uy, uy uz, uz ux).
+      const __m256d au = _mm256_mul_pd(_mm256_broadcast_sd(&cq.a[k]), u);
+      const __m256d diagonal = _mm256_fmadd_pd(au, u, _mm256_mul_pd(_mm256_broadcast_sd(&cq.b[k]), xyz));
+      const __m256d off = _mm256_mul_pd(au, yzx(u));
+      add_block(pre, sq.j[k], diagonal, off);
+      if constexpr (kStar) {
+        t_sum = _mm256_add_pd(t_sum, t);
+        diagonal_sum = _mm256_add_pd(diagonal_sum, diagonal);
+        off_sum = _mm256_add_pd(off_sum, off);
+      } else {
+        add_at(f, sq.i[k], t);
+        add_block(pre, sq.i[k], diagonal, off);
+      }
+    }
+    if constexpr (kStar) {
+      add_at(f, sq.i[0], t_sum);
+      add_block(pre, sq.i[0], diagonal_sum, off_sum);
+    }
+  }
+}
+
+/// The springs' part of A·p (kStar as above): g = a (u·δ) u + b δ, δ = p_j − p_i;
+/// (A p)_i −= g, (A p)_j += g; pᵀ A p gains a (u·δ)² (pap_a) + b |δ|² (pap_b).
+template <bool kStar>
+TROCAR_AVX2 void apply_springs(const std::vector<CgSpringQuad>& cache, const Padded3* p, Padded3* out,
+                               __m256d& pap_a, __m256d& pap_b) {
+  for (const CgSpringQuad& cq : cache) {
+    __m256d delta[4], u[4];
+    if constexpr (kStar) {
+      const __m256d pi = load_at(p, cq.i[0]);
+      for (int k = 0; k < 4; ++k) delta[k] = _mm256_sub_pd(load_at(p, cq.j[k]), pi);
+    } else {
+      for (int k = 0; k < 4; ++k) delta[k] = _mm256_sub_pd(load_at(p, cq.j[k]), load_at(p, cq.i[k]));
+    }
+    for (int k = 0; k < 4; ++k) u[k] = _mm256_load_pd(cq.u[k]);
+    const __m256d ud = horizontal_sums(_mm256_mul_pd(u[0], delta[0]), _mm256_mul_pd(u[1], delta[1]),
+                                       _mm256_mul_pd(u[2], delta[2]), _mm256_mul_pd(u[3], delta[3]));
+    const __m256d aud = _mm256_mul_pd(_mm256_load_pd(cq.a), ud);
+    pap_a = _mm256_fmadd_pd(aud, ud, pap_a);
+    alignas(32) Real aud_s[4];
+    _mm256_store_pd(aud_s, aud);
+    __m256d g_sum = _mm256_setzero_pd();
+    for (int k = 0; k < 4; ++k) {
+      const __m256d b_delta = _mm256_mul_pd(_mm256_broadcast_sd(&cq.b[k]), delta[k]);
+      const __m256d g = _mm256_fmadd_pd(_mm256_broadcast_sd(&aud_s[k]), u[k], b_delta);
+      pap_b = _mm256_fmadd_pd(b_delta, delta[k], pap_b);
+      add_at(out, cq.j[k], g);
+      if constexpr (kStar)
+        g_sum = _mm256_add_pd(g_sum, g);
+      else
+        subtract_at(out, cq.i[k], g);
+    }
+    if constexpr (kStar) subtract_at(out, cq.i[0], g_sum);
+  }
+}
+
 }  // namespace
 #endif  // TROCAR_HAVE_X86
 
 ImplicitAvx2::ImplicitAvx2(const MassSpringSettings& settings)
-    : settings_(settings), springs_(make_spring_quads(settings.springs)) {
+    : settings_(settings), springs_(make_spring_layout(settings.springs, settings.vertex_count())) {
   const std::size_t n = settings.vertex_count();
-  cache_.resize(springs_.size());
-  for (std::size_t q = 0; q < springs_.size(); ++q)
-    for (int k = 0; k < 4; ++k) {
-      cache_[q].i[k] = springs_[q].i[k];
-      cache_[q].j[k] = springs_[q].j[k];
-    }
+  for (auto [quads, cache] : {std::pair{&springs_.stars, &cache_stars_}, std::pair{&springs_.others, &cache_others_}}) {
+    cache->resize(quads->size());
+    for (std::size_t q = 0; q < quads->size(); ++q)
+      for (int k = 0; k < 4; ++k) {
+        (*cache)[q].i[k] = (*quads)[q].i[k];
+        (*cache)[q].j[k] = (*quads)[q].j[k];
+      }
+  }
   for (std::vector<Padded3>* a : {&x_, &v_, &rest_, &f_, &dv_, &r_, &p_, &z_, &q_, &gradient_}) a->assign(n, Padded3{});
   copy_padded(settings.rest_positions.data(), n, rest_.data());
   preconditioner_.assign(n, Block3{});
@@ -144,57 +255,10 @@ TROCAR_AVX2 void ImplicitAvx2::linearise(const TissueLoads& loads, Real h, const
   // cached block (u, a, b) and A_ii += a u uᵀ + b I at both ends. With u·δv = (d·δv)/|d|:
   //   f_i += (σ + h k (1 − c) (d·δv)/|d|²) d + h k c δv,   f_j −= the same.
   if (terms.springs) {
-    const __m256d tiny = _mm256_set1_pd(kTinyLength2), one = _mm256_set1_pd(1.0), zero = _mm256_setzero_pd();
-    const __m256d h_v = _mm256_set1_pd(h), xyz = _mm256_setr_pd(1, 1, 1, 0);
-    const Padded3* x = x_.data();
-    const Padded3* v = v_.data();
-    Padded3* f = f_.data();
-    Block3* pre = preconditioner_.data();
-    for (std::size_t qi = 0; qi < springs_.size(); ++qi) {
-      const SpringQuad& sq = springs_[qi];
-      CgSpringQuad& cq = cache_[qi];
-      __m256d d[4], w[4];
-      for (int k = 0; k < 4; ++k) {
-        d[k] = _mm256_sub_pd(load_at(x, sq.j[k]), load_at(x, sq.i[k]));
-        w[k] = _mm256_sub_pd(load_at(v, sq.j[k]), load_at(v, sq.i[k]));
-      }
-      const __m256d len2 = horizontal_sums(_mm256_mul_pd(d[0], d[0]), _mm256_mul_pd(d[1], d[1]),
-                                           _mm256_mul_pd(d[2], d[2]), _mm256_mul_pd(d[3], d[3]));
-      const __m256d speed = horizontal_sums(_mm256_mul_pd(w[0], d[0]), _mm256_mul_pd(w[1], d[1]),
-                                            _mm256_mul_pd(w[2], d[2]), _mm256_mul_pd(w[3], d[3]));
-      const __m256d inv =
-          _mm256_and_pd(_mm256_div_pd(one, _mm256_sqrt_pd(len2)), _mm256_cmp_pd(len2, tiny, _CMP_GT_OQ));
-      const __m256d rest = _mm256_load_pd(sq.rest_length), k_v = _mm256_load_pd(sq.stiffness);
-      const __m256d lambda = _mm256_load_pd(sq.damping);
-      const __m256d inv2 = _mm256_mul_pd(inv, inv);
-      const __m256d sigma = _mm256_fmadd_pd(_mm256_mul_pd(k_v, _mm256_sub_pd(_mm256_mul_pd(len2, inv), rest)), inv,
-                                            _mm256_mul_pd(_mm256_mul_pd(lambda, speed), inv2));
-      const __m256d c = _mm256_max_pd(zero, _mm256_fnmadd_pd(rest, inv, one));  // max(0, 1 − l/|d|)
-      const __m256d hk = _mm256_mul_pd(h_v, k_v);
-      const __m256d one_minus_c = _mm256_sub_pd(one, c);
-      const __m256d a = _mm256_mul_pd(h_v, _mm256_fmadd_pd(hk, one_minus_c, lambda));
-      const __m256d b = _mm256_mul_pd(_mm256_mul_pd(h_v, hk), c);
-      _mm256_store_pd(cq.a, a);
-      _mm256_store_pd(cq.b, b);
-      alignas(32) Real along_d[4], along_w[4], inv_s[4];
-      _mm256_store_pd(along_d, _mm256_fmadd_pd(_mm256_mul_pd(hk, one_minus_c), _mm256_mul_pd(speed, inv2), sigma));
-      _mm256_store_pd(along_w, _mm256_mul_pd(hk, c));
-      _mm256_store_pd(inv_s, inv);
-      for (int k = 0; k < 4; ++k) {
-        const __m256d u = _mm256_mul_pd(_mm256_broadcast_sd(&inv_s[k]), d[k]);
-        _mm256_store_pd(cq.u[k], u);
-        const __m256d t =
-            _mm256_fmadd_pd(_mm256_broadcast_sd(&along_d[k]), d[k], _mm256_mul_pd(_mm256_broadcast_sd(&along_w[k]), w[k]));
-        add_at(f, sq.i[k], t);
-        subtract_at(f, sq.j[k], t);
-        // a u uᵀ + b I: diagonal a u∘u + b (1, 1, 1, 0); off-diagonal a (ux uy, uy uz, uz ux).
-        const __m256d ak = _mm256_broadcast_sd(&cq.a[k]);
-        const __m256d diagonal = _mm256_fmadd_pd(_mm256_mul_pd(ak, u), u, _mm256_mul_pd(_mm256_broadcast_sd(&cq.b[k]), xyz));
-        const __m256d off = _mm256_mul_pd(_mm256_mul_pd(ak, u), yzx(u));
-        add_block(pre, sq.i[k], diagonal, off);
-        add_block(pre, sq.j[k], diagonal, off);
-      }
-    }
+    linearise_springs<true>(springs_.stars, cache_stars_.data(), x_.data(), v_.data(), f_.data(),
+                            preconditioner_.data(), h);
+    linearise_springs<false>(springs_.others, cache_others_.data(), x_.data(), v_.data(), f_.data(),
+                             preconditioner_.data(), h);
   }
 
   // Volume: ∇V_i = Σ_{t∋i} n_t/6; f += (−κ_V (V − V0) − h κ_V (∇V·v₀)) ∇V; A_ii += h² κ_V ∇V_i ∇V_iᵀ.
@@ -248,26 +312,8 @@ TROCAR_AVX2 Real ImplicitAvx2::apply_system(const TissueLoads& loads, Real h, Re
   // Springs: g = a (u·δ) u + b δ, δ = p_j − p_i; (A p)_i −= g, (A p)_j += g; pᵀ A p gains
   // a (u·δ)² + b |δ|².
   if (terms.springs) {
-    for (const CgSpringQuad& cq : cache_) {
-      __m256d delta[4], u[4];
-      for (int k = 0; k < 4; ++k) {
-        delta[k] = _mm256_sub_pd(load_at(p, cq.j[k]), load_at(p, cq.i[k]));
-        u[k] = _mm256_load_pd(cq.u[k]);
-      }
-      const __m256d ud = horizontal_sums(_mm256_mul_pd(u[0], delta[0]), _mm256_mul_pd(u[1], delta[1]),
-                                         _mm256_mul_pd(u[2], delta[2]), _mm256_mul_pd(u[3], delta[3]));
-      const __m256d aud = _mm256_mul_pd(_mm256_load_pd(cq.a), ud);
-      pap_a = _mm256_fmadd_pd(aud, ud, pap_a);
-      alignas(32) Real aud_s[4];
-      _mm256_store_pd(aud_s, aud);
-      for (int k = 0; k < 4; ++k) {
-        const __m256d b_delta = _mm256_mul_pd(_mm256_broadcast_sd(&cq.b[k]), delta[k]);
-        const __m256d g = _mm256_fmadd_pd(_mm256_broadcast_sd(&aud_s[k]), u[k], b_delta);
-        pap_b = _mm256_fmadd_pd(b_delta, delta[k], pap_b);
-        subtract_at(out, cq.i[k], g);
-        add_at(out, cq.j[k], g);
-      }
-    }
+    apply_springs<true>(cache_stars_, p, out, pap_a, pap_b);
+    apply_springs<false>(cache_others_, p, out, pap_a, pap_b);
   }
   // Contacts: (A p)_a += (h μ + h² k) w_a n (Σ_b w_b n·p_b).
   Real pap_contacts = 0;

@@ -54,8 +54,8 @@ class ImplicitAvx2 {
   Real apply_system(const TissueLoads& loads, Real h, Real volume_slope, const ForceTerms& terms);
 
   const MassSpringSettings& settings_;
-  std::vector<SpringQuad> springs_;            ///< the springs' parameters, four by four
-  std::vector<CgSpringQuad> cache_;            ///< this step's spring blocks
+  SpringLayout springs_;                       ///< the springs' parameters, four by four
+  std::vector<CgSpringQuad> cache_stars_, cache_others_;  ///< this step's spring blocks
   std::vector<Padded3> x_, v_, rest_, f_, dv_, r_, p_, z_, q_, gradient_;
   std::vector<Block3> preconditioner_;         ///< A_ii, then inverted in place
   std::vector<Real> diagonal_mass_, free_;

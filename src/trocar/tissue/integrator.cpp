@@ -48,7 +48,7 @@ MassSpringIntegrator::MassSpringIntegrator(const MassSpringSettings& settings, I
     padded_velocities_.assign(n, tissue_detail::Padded3{});
     padded_rest_.assign(n, tissue_detail::Padded3{});
     tissue_detail::copy_padded(settings.rest_positions.data(), n, padded_rest_.data());
-    spring_quads_ = tissue_detail::make_spring_quads(settings.springs);
+    spring_layout_ = tissue_detail::make_spring_layout(settings.springs, n);
     return;
   }
 
@@ -107,7 +107,7 @@ StepStats MassSpringIntegrator::step_explicit(MassSpringState& state, const Tiss
   const std::size_t n = s.vertex_count();
   copy_padded(x, n, padded_positions_.data());
   copy_padded(v, n, padded_velocities_.data());
-  if (terms_.springs) add_spring_forces(spring_quads_, padded_positions_.data(), padded_velocities_.data(),
+  if (terms_.springs) add_spring_forces(spring_layout_, padded_positions_.data(), padded_velocities_.data(),
                                         pair_forces_.data(), use_avx2_);
   if (terms_.area) add_area_forces(s, x, pair_forces_.data());
 

@@ -104,7 +104,7 @@ class MassSpringIntegrator {
   std::vector<tissue_detail::Padded3> pair_forces_, padded_volume_gradient_;
   std::vector<tissue_detail::Padded3> padded_positions_, padded_velocities_;  ///< copies of the state
   std::vector<tissue_detail::Padded3> padded_rest_;  ///< the rest positions
-  std::vector<tissue_detail::SpringQuad> spring_quads_;  ///< the springs, four by four
+  tissue_detail::SpringLayout spring_layout_;  ///< the springs, four by four
   /// Implicit: the AVX2 solver (where the CPU has AVX2+FMA), used unless the area term is on.
   std::unique_ptr<tissue_detail::ImplicitAvx2> implicit_avx2_;
   bool use_avx2_ = false;  ///< the CPU has AVX2 + FMA (explicit_kernels.h)
