@@ -59,6 +59,34 @@ TEST(Simulation, ProbePressingIntoSphereMakesContactsAndAnOpposingForce) {
   EXPECT_LT(top, 0.0295);
 }
 
+// The step's penetration metrics skip vertices outside the tissue's box, batch the rest and
+// refit MeshDistance lazily; they must equal the plain definition: every instrument vertex's
+// signed distance by brute force over all triangles of the deformed surface.
+TEST(Simulation, PenetrationMetricsEqualBruteForceOverEveryVertex) {
+  Scene scene = test::probe_scene(0.04, 0.018, 0.1);  // tip 12 mm below the top at the end
+  Simulation sim(std::move(scene.world), scene.settings);
+  const TissueBody& ball = *sim.world().tissues[0];
+  MeshDistance reference(ball.state.positions, ball.settings.triangles);
+  int steps_inside = 0;
+  for (int n = 0; n < 150; ++n) {
+    const StepMetrics& m = sim.step(1e-3);
+    reference.refit(ball.state.positions);
+    std::uint32_t inside = 0;
+    Real deepest = 0;
+    for (const Vec3& p : sim.world().instruments[0].instrument.world_positions()) {
+      const Real d = reference.signed_distance_brute_force(p).distance;
+      if (d < 0) {
+        ++inside;
+        deepest = std::max(deepest, -d);
+      }
+    }
+    ASSERT_EQ(m.vertices_inside, inside) << "step " << n;
+    ASSERT_EQ(m.penetration_max, deepest) << "step " << n;
+    steps_inside += inside > 0 ? 1 : 0;
+  }
+  EXPECT_GT(steps_inside, 50);
+}
+
 std::uint64_t hash_after(const std::string& text, int steps) {
   Scene scene = parse_scene(text, "probe.json", ".");
   Simulation sim(std::move(scene.world), scene.settings);
