@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <vector>
 
 #include "probe_scene.h"
@@ -85,6 +86,21 @@ TEST(Simulation, PenetrationMetricsEqualBruteForceOverEveryVertex) {
     steps_inside += inside > 0 ? 1 : 0;
   }
   EXPECT_GT(steps_inside, 50);
+}
+
+// A non-finite coordinate anywhere in a tissue's state makes the step report finite = false.
+TEST(Simulation, NonFiniteStateIsReported) {
+  for (const Real bad : {std::numeric_limits<Real>::quiet_NaN(), std::numeric_limits<Real>::infinity(),
+                         -std::numeric_limits<Real>::infinity()}) {
+    Scene scene = test::probe_scene(0.04, 0.03, 0.1);
+    Simulation sim(std::move(scene.world), scene.settings);
+    for (int n = 0; n < 5; ++n) ASSERT_TRUE(sim.step(1e-3).finite);
+    MassSpringState& state = sim.world().tissues[0]->state;
+    const auto top = std::max_element(state.positions.begin(), state.positions.end(),
+                                      [](const Vec3& a, const Vec3& b) { return a.z() < b.z(); });
+    state.velocities[static_cast<std::size_t>(top - state.positions.begin())].y() = bad;  // a free vertex
+    EXPECT_FALSE(sim.step(1e-3).finite) << bad;
+  }
 }
 
 std::uint64_t hash_after(const std::string& text, int steps) {
