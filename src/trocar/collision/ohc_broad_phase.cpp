@@ -497,10 +497,25 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
   stats_.table_size = static_cast<std::uint32_t>(table);
   std::uint32_t* start = slot_start_.data();
   std::fill(start, start + table + 1, 0u);
-  for (const Primitive& prim : primitives_) {
-    for (std::int32_t z = prim.lo[2]; z <= prim.hi[2]; ++z)
-      for (std::int32_t y = prim.lo[1]; y <= prim.hi[1]; ++y)
-        for (std::int32_t x = prim.lo[0]; x <= prim.hi[0]; ++x) ++start[cell_hash(x, y, z) & mask];
+  // One pass over the cells of every primitive, in ascending primitive order: each entry is
+  // staged with its slot (hashed once) and counted.
+  staged_.resize(entry_count);
+  staged_slots_.resize(entry_count);
+  {
+    Entry* staged = staged_.data();
+    std::uint32_t* slots = staged_slots_.data();
+    std::size_t e = 0;
+    for (std::uint32_t k = 0; k < primitives_.size(); ++k) {
+      const Primitive& prim = primitives_[k];
+      for (std::int32_t z = prim.lo[2]; z <= prim.hi[2]; ++z)
+        for (std::int32_t y = prim.lo[1]; y <= prim.hi[1]; ++y)
+          for (std::int32_t x = prim.lo[0]; x <= prim.hi[0]; ++x) {
+            const std::uint32_t slot = cell_hash(x, y, z) & mask;
+            ++start[slot];
+            staged[e] = {x, y, z, k};
+            slots[e++] = slot;
+          }
+    }
   }
   // Inclusive prefix sum: start[s] = end of slot s. Filling from the back turns it into the
   // beginning of slot s, and start[s + 1] (table: = entry_count) is its end.
@@ -513,15 +528,9 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
   entries_.resize(entry_count);
   if (cell_starts_.size() < entries_.size()) cell_starts_.resize(entries_.size());  // a cell's worth
   Entry* entries = entries_.data();
-  // Primitives in descending order, each slot filled from its back: every slot ends up in
+  // The staged entries backwards, each slot filled from its back: every slot ends up in
   // ascending primitive order (step 5 relies on it).
-  for (auto k = static_cast<std::uint32_t>(primitives_.size()); k-- > 0;) {
-    const Primitive& prim = primitives_[k];
-    for (std::int32_t z = prim.lo[2]; z <= prim.hi[2]; ++z)
-      for (std::int32_t y = prim.lo[1]; y <= prim.hi[1]; ++y)
-        for (std::int32_t x = prim.lo[0]; x <= prim.hi[0]; ++x)
-          entries[--start[cell_hash(x, y, z) & mask]] = {x, y, z, k};
-  }
+  for (std::size_t e = entry_count; e-- > 0;) entries[--start[staged_slots_[e]]] = staged_[e];
 
   // 5. Per slot: sort by (cell, primitive) so hash collisions fall apart into cells, then
   //    classify each cell and emit pairs from the potential-colliding ones.

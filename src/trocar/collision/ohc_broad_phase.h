@@ -157,6 +157,8 @@ class OhcBroadPhase final : public BroadPhase {
   std::vector<SweepItem> sweep_;       // cluster_cascade scratch (reserved for all clusters)
   std::vector<std::uint32_t> slot_start_;  // table_size + 1 (counting sort)
   std::vector<Entry> entries_;
+  std::vector<Entry> staged_;              // entries in primitive order, before the counting sort
+  std::vector<std::uint32_t> staged_slots_;  // their slots
   std::vector<std::uint8_t> cell_starts_;  // emit_cell_pairs scratch (≥ entries_.size())
 };
 
