@@ -107,7 +107,17 @@ void OhcBroadPhase::build_clusters(ObjectClusters& c, const CollisionObject& obj
   // Padding read only by the refit's prefetch (vertex 0 exists whenever a cluster does).
   c.vertices.insert(c.vertices.end(), kRefitPrefetch, 0u);
   c.boxes.resize(clusters);
-  c.regions.resize(clusters);
+  c.regions.assign(clusters, Aabb{});
+  c.groups.resize((clusters + kGroupClusters - 1) / kGroupClusters);
+  c.touched.clear();
+  c.touched.reserve(clusters);
+}
+
+void OhcBroadPhase::expand_region(std::uint32_t object, std::uint32_t cluster, const Aabb& box) {
+  ObjectClusters& c = clusters_[object];
+  // An expanded region is never empty again (box is non-empty), so this lists each cluster once.
+  if (c.regions[cluster].is_empty()) c.touched.push_back(cluster);
+  c.regions[cluster].expand(box);
 }
 
 void OhcBroadPhase::cluster_cascade(std::uint32_t i, std::uint32_t j) {
@@ -124,10 +134,19 @@ void OhcBroadPhase::cluster_cascade(std::uint32_t i, std::uint32_t j) {
     const std::uint32_t object = side == 0 ? i : j;
     const ObjectClusters& c = clusters_[object];
     const Real margin = margins_[object];
-    for (std::uint32_t k = 0; k < c.boxes.size(); ++k) {
-      const Aabb grown = c.boxes[k].inflated(margin);
-      // A box with a NaN fails this, so the sort below never compares a NaN.
-      if (grown.overlaps(overlap)) sweep_.push_back({grown, side, k});
+    // Groups of kGroupClusters clusters first: a group box holds its clusters' boxes (min and
+    // max are exact, and growing by the margin is monotone), so a group whose grown box misses
+    // the overlap has no cluster that touches it. (A NaN coordinate is left out of the group
+    // box; that cluster's own test below fails anyway.)
+    for (std::size_t g = 0; g < c.groups.size(); ++g) {
+      if (!c.groups[g].inflated(margin).overlaps(overlap)) continue;
+      const auto first = static_cast<std::uint32_t>(g * kGroupClusters);
+      const auto last = static_cast<std::uint32_t>(std::min<std::size_t>(c.boxes.size(), first + kGroupClusters));
+      for (std::uint32_t k = first; k < last; ++k) {
+        const Aabb grown = c.boxes[k].inflated(margin);
+        // A box with a NaN fails this, so the sort below never compares a NaN.
+        if (grown.overlaps(overlap)) sweep_.push_back({grown, side, k});
+      }
     }
   }
   std::sort(sweep_.begin(), sweep_.end(), [](const SweepItem& a, const SweepItem& b) {
@@ -146,15 +165,15 @@ void OhcBroadPhase::cluster_cascade(std::uint32_t i, std::uint32_t j) {
     for (std::size_t b = a + 1; b < count && sweep_[b].box.min.x() <= p.box.max.x(); ++b) {
       if (++steps > budget) {
         for (const SweepItem& item : sweep_) {
-          clusters_[item.side == 0 ? i : j].regions[item.cluster].expand(item.box.intersection(overlap));
+          expand_region(item.side == 0 ? i : j, item.cluster, item.box.intersection(overlap));
         }
         return;
       }
       const SweepItem& q = sweep_[b];
       if (p.side == q.side || !p.box.overlaps(q.box)) continue;
       const Aabb both = p.box.intersection(q.box);
-      clusters_[p.side == 0 ? i : j].regions[p.cluster].expand(both);
-      clusters_[q.side == 0 ? i : j].regions[q.cluster].expand(both);
+      expand_region(p.side == 0 ? i : j, p.cluster, both);
+      expand_region(q.side == 0 ? i : j, q.cluster, both);
       ++stats_.cluster_pairs;
     }
   }
@@ -172,12 +191,14 @@ void OhcBroadPhase::cluster_cascade(std::uint32_t i, std::uint32_t j) {
 template <bool kPrefetch>
 __attribute__((target("avx2"))) static void refit_boxes_avx2(const Real* p, const std::uint32_t* ids,
                                                              const std::uint32_t* vertex_start,
-                                                             std::size_t clusters, Aabb* boxes, Real* olo,
-                                                             Real* ohi) {
+                                                             std::size_t clusters, Aabb* boxes, Aabb* groups,
+                                                             Real* olo, Real* ohi) {
   constexpr Real kInf = std::numeric_limits<Real>::infinity();
   const __m256i mask = _mm256_setr_epi64x(-1, -1, -1, 0);
   __m256d obj_lo = _mm256_set1_pd(kInf);
   __m256d obj_hi = _mm256_set1_pd(-kInf);
+  __m256d group_lo = obj_lo;
+  __m256d group_hi = obj_hi;
   for (std::size_t k = 0; k < clusters; ++k) {
     const std::uint32_t begin = vertex_start[k];
     const std::uint32_t end = vertex_start[k + 1];
@@ -221,6 +242,16 @@ __attribute__((target("avx2"))) static void refit_boxes_avx2(const Real* p, cons
     boxes[k].max = Vec3(h[0], h[1], h[2]);
     obj_lo = _mm256_min_pd(lo, obj_lo);  // = std::min(obj_lo, lo), NaN included
     obj_hi = _mm256_max_pd(hi, obj_hi);
+    group_lo = _mm256_min_pd(lo, group_lo);
+    group_hi = _mm256_max_pd(hi, group_hi);
+    if ((k + 1) % OhcBroadPhase::kGroupClusters == 0 || k + 1 == clusters) {
+      _mm256_store_pd(l, group_lo);
+      _mm256_store_pd(h, group_hi);
+      groups[k / OhcBroadPhase::kGroupClusters].min = Vec3(l[0], l[1], l[2]);
+      groups[k / OhcBroadPhase::kGroupClusters].max = Vec3(h[0], h[1], h[2]);
+      group_lo = _mm256_set1_pd(kInf);
+      group_hi = _mm256_set1_pd(-kInf);
+    }
   }
   alignas(32) Real l[4];
   alignas(32) Real h[4];
@@ -245,13 +276,17 @@ Aabb OhcBroadPhase::refit_clusters(ObjectClusters& c, const CollisionObject& obj
   constexpr Real kInf = std::numeric_limits<Real>::infinity();
   Real olo[3] = {kInf, kInf, kInf};
   Real ohi[3] = {-kInf, -kInf, -kInf};
+  Real group_lo[3] = {kInf, kInf, kInf};  // the scalar path's current group
+  Real group_hi[3] = {-kInf, -kInf, -kInf};
   std::size_t first_sse_cluster = 0;  // all clusters when the AVX2 path ran
 #if defined(TROCAR_OHC_AVX2)
   if (cpu_has_avx2()) {
     if (object.positions.size() > kRefitPrefetchVertices) {
-      refit_boxes_avx2<true>(p, ids, c.vertex_start.data(), c.boxes.size(), c.boxes.data(), olo, ohi);
+      refit_boxes_avx2<true>(p, ids, c.vertex_start.data(), c.boxes.size(), c.boxes.data(), c.groups.data(), olo,
+                             ohi);
     } else {
-      refit_boxes_avx2<false>(p, ids, c.vertex_start.data(), c.boxes.size(), c.boxes.data(), olo, ohi);
+      refit_boxes_avx2<false>(p, ids, c.vertex_start.data(), c.boxes.size(), c.boxes.data(), c.groups.data(), olo,
+                              ohi);
     }
     first_sse_cluster = c.boxes.size();
   }
@@ -314,6 +349,16 @@ Aabb OhcBroadPhase::refit_clusters(ObjectClusters& c, const CollisionObject& obj
     for (int a = 0; a < 3; ++a) {
       olo[a] = std::min(olo[a], lo[a]);
       ohi[a] = std::max(ohi[a], hi[a]);
+      group_lo[a] = std::min(group_lo[a], lo[a]);
+      group_hi[a] = std::max(group_hi[a], hi[a]);
+    }
+    if ((k + 1) % kGroupClusters == 0 || k + 2 == c.vertex_start.size()) {
+      c.groups[k / kGroupClusters].min = Vec3(group_lo[0], group_lo[1], group_lo[2]);
+      c.groups[k / kGroupClusters].max = Vec3(group_hi[0], group_hi[1], group_hi[2]);
+      for (int a = 0; a < 3; ++a) {
+        group_lo[a] = kInf;
+        group_hi[a] = -kInf;
+      }
     }
   }
   Aabb box;
@@ -352,11 +397,12 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
     // Bound on the margin of each of the object's triangle boxes (kBoxMargin of a side that is
     // at most the object's).
     margins_[i] = boxes_[i].is_empty() ? 0.0 : kBoxMargin * boxes_[i].size().maxCoeff();
-    if (by_cluster) {
-      ObjectClusters& c = clusters_[i];
-      c.regions.assign(c.boxes.size(), Aabb{});
-      all_clusters += c.boxes.size();
-    }
+    // Last frame's cluster regions back to empty: only those it touched (O(touched), not
+    // O(clusters): the 720K sheet has 22,500 clusters and touches ~50).
+    ObjectClusters& c = clusters_[i];
+    for (const std::uint32_t k : c.touched) c.regions[k] = Aabb{};
+    c.touched.clear();
+    if (by_cluster) all_clusters += c.boxes.size();
   }
   if (by_cluster) sweep_.reserve(all_clusters);  // a pair sweeps at most every cluster
   for (std::uint32_t i = 0; i < n; ++i) {
@@ -391,13 +437,18 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
     const Aabb& region = regions_[i];
     if (region.is_empty()) continue;
     const CollisionObject& object = objects[i];
-    const ObjectClusters& c = clusters_[i];
+    ObjectClusters& c = clusters_[i];
     const Vec3* p = object.positions.data();
     // A triangle's margin is at most kBoxMargin·(object size): test the raw cluster boxes
     // against the region grown by that much, then clip the inflated triangle boxes.
     const Aabb grown = region.inflated(margins_[i]);
     const auto triangle_count = static_cast<std::uint32_t>(object.triangles.size());
-    for (std::uint32_t k = 0; k < c.boxes.size(); ++k) {
+    // With the cluster level only the clusters it touched can open, in ascending order as a
+    // scan over all of them would visit them.
+    if (by_cluster) std::sort(c.touched.begin(), c.touched.end());
+    const std::size_t to_visit = by_cluster ? c.touched.size() : c.boxes.size();
+    for (std::size_t v = 0; v < to_visit; ++v) {
+      const std::uint32_t k = by_cluster ? c.touched[v] : static_cast<std::uint32_t>(v);
       if (!c.boxes[k].overlaps(grown)) continue;
       // With the cluster level, the cluster's own region (the overlaps of its grown box with
       // partner clusters' grown boxes) narrows the object's; a common point of two inflated

@@ -80,6 +80,9 @@ class OhcBroadPhase final : public BroadPhase {
  public:
   /// Triangles per cluster of the cascade's middle level (the last cluster may hold fewer).
   static constexpr std::uint32_t kClusterTriangles = 32;
+  /// Clusters per group, the level above clusters that the cluster sweep tests first (the
+  /// group boxes come out of the refit at no extra pass).
+  static constexpr std::uint32_t kGroupClusters = 32;
 
   /// Default settings (automatic cell size, cascade on).
   OhcBroadPhase() = default;
@@ -129,9 +132,12 @@ class OhcBroadPhase final : public BroadPhase {
     /// (3 × vertex id; meshes have far fewer than 2³²/3 vertices).
     std::vector<std::uint32_t> vertices;
     std::vector<Aabb> boxes;                  ///< per cluster: box of its vertices this frame
+    std::vector<Aabb> groups;                 ///< per kGroupClusters clusters: their boxes' union
     /// Per cluster, this frame: bounding box of its (grown) box's overlaps with the (grown)
     /// boxes of its partners' clusters (empty: not opened). Used by the cluster cascade only.
     std::vector<Aabb> regions;
+    /// The clusters whose region is not empty this frame, each once (capacity: all clusters).
+    std::vector<std::uint32_t> touched;
   };
   /// A cluster in the cluster-vs-cluster sweep: its grown box and where it comes from.
   struct SweepItem {
@@ -143,6 +149,7 @@ class OhcBroadPhase final : public BroadPhase {
   static void build_clusters(ObjectClusters& c, const CollisionObject& object);
   static Aabb refit_clusters(ObjectClusters& c, const CollisionObject& object);
   void cluster_cascade(std::uint32_t i, std::uint32_t j);
+  void expand_region(std::uint32_t object, std::uint32_t cluster, const Aabb& box);
   void emit_cell_pairs(std::span<const Entry> cell, std::span<const CollisionObject> objects,
                        std::vector<CandidatePair>& out);
 
