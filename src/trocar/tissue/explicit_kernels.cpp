@@ -16,11 +16,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <string_view>
-#if defined(__x86_64__)
-#include <immintrin.h>
-#define TROCAR_HAVE_X86 1
-#define TROCAR_AVX2 __attribute__((target("avx2,fma")))
-#endif
+#include "trocar/tissue/avx2.h"
 
 namespace trocar::tissue_detail {
 namespace {
@@ -93,66 +89,18 @@ Real update_scalar(const MassSpringSettings& s, Vec3* x, Vec3* v, const UpdateIn
 }
 
 #ifdef TROCAR_HAVE_X86
-TROCAR_AVX2 inline __m256d load(const Padded3& p) { return _mm256_load_pd(&p.x); }
-TROCAR_AVX2 inline void store(Padded3& p, __m256d a) { _mm256_store_pd(&p.x, a); }
-/// A Vec3 as (x, y, z, 0); the masked lane is not read, so the last vertex is safe.
-TROCAR_AVX2 inline __m256d load3(const Vec3& p) {
-  return _mm256_maskload_pd(p.data(), _mm256_setr_epi64x(-1, -1, -1, 0));
-}
-/// Stores x, y, z of (x, y, z, ·) as 16 + 8 bytes. (A masked 256-bit store is slower, and it
-/// stalls the next vertex's overlapping load: measured 2.6× slower update pass.)
-TROCAR_AVX2 inline void store3(Vec3& p, __m256d a) {
-  _mm_storeu_pd(p.data(), _mm256_castpd256_pd128(a));
-  _mm_store_sd(p.data() + 2, _mm256_extractf128_pd(a, 1));
-}
-
-/// [Σa, Σb, Σc, Σd]: four horizontal sums in one register (hadd, then swap 128-bit halves).
-TROCAR_AVX2 inline __m256d horizontal_sums(__m256d a, __m256d b, __m256d c, __m256d d) {
-  const __m256d ab = _mm256_hadd_pd(a, b);  // [a0+a1, b0+b1, a2+a3, b2+b3]
-  const __m256d cd = _mm256_hadd_pd(c, d);
-  return _mm256_add_pd(_mm256_permute2f128_pd(ab, cd, 0x20), _mm256_permute2f128_pd(ab, cd, 0x31));
-}
-
-/// The padded vector at byte offset `offset` (an index × 32, precomputed: no shift per access).
-TROCAR_AVX2 inline __m256d load_at(const Padded3* base, std::uint32_t offset) {
-  return _mm256_load_pd(reinterpret_cast<const Real*>(reinterpret_cast<const char*>(base) + offset));
-}
-TROCAR_AVX2 inline void add_at(Padded3* base, std::uint32_t offset, __m256d a) {
-  Real* p = reinterpret_cast<Real*>(reinterpret_cast<char*>(base) + offset);
-  _mm256_store_pd(p, _mm256_add_pd(_mm256_load_pd(p), a));
-}
-TROCAR_AVX2 inline void subtract_at(Padded3* base, std::uint32_t offset, __m256d a) {
-  Real* p = reinterpret_cast<Real*>(reinterpret_cast<char*>(base) + offset);
-  _mm256_store_pd(p, _mm256_sub_pd(_mm256_load_pd(p), a));
-}
+using namespace avx2;
 
 /// kStar: the quad's four springs share their first vertex (SpringLayout::stars), so x_i and v_i
 /// are loaded once and f_i gets one read-modify-write of the four forces' sum.
 template <bool kStar>
 TROCAR_AVX2 void spring_forces_avx2(const SpringQuad* quads, std::size_t count, const Padded3* x, const Padded3* v,
                                     Padded3* f) {
-  const __m256d tiny = _mm256_set1_pd(kTinyLength2), one = _mm256_set1_pd(1.0);
   for (std::size_t q = 0; q < count; ++q) {
     const SpringQuad& s = quads[q];
-    __m256d d[4], w[4];
-    if constexpr (kStar) {
-      const __m256d xi = load_at(x, s.i[0]), vi = load_at(v, s.i[0]);
-      for (int k = 0; k < 4; ++k) {
-        d[k] = _mm256_sub_pd(load_at(x, s.j[k]), xi);
-        w[k] = _mm256_sub_pd(load_at(v, s.j[k]), vi);
-      }
-    } else {
-      for (int k = 0; k < 4; ++k) {
-        d[k] = _mm256_sub_pd(load_at(x, s.j[k]), load_at(x, s.i[k]));
-        w[k] = _mm256_sub_pd(load_at(v, s.j[k]), load_at(v, s.i[k]));
-      }
-    }
-    const __m256d len2 = horizontal_sums(_mm256_mul_pd(d[0], d[0]), _mm256_mul_pd(d[1], d[1]),
-                                         _mm256_mul_pd(d[2], d[2]), _mm256_mul_pd(d[3], d[3]));
-    const __m256d speed = horizontal_sums(_mm256_mul_pd(w[0], d[0]), _mm256_mul_pd(w[1], d[1]),
-                                          _mm256_mul_pd(w[2], d[2]), _mm256_mul_pd(w[3], d[3]));  // Δv·d
-    // 1/|d|, or 0 where |d|² ≤ 1e-30 (or NaN), as forces.cpp's safe_inverse_sqrt.
-    const __m256d inv = _mm256_and_pd(_mm256_div_pd(one, _mm256_sqrt_pd(len2)), _mm256_cmp_pd(len2, tiny, _CMP_GT_OQ));
+    const QuadGeometry g = quad_geometry<kStar>(s, x, v);
+    const __m256d* d = g.d;
+    const __m256d len2 = g.length2, speed = g.speed, inv = g.inverse_length;
     // σ = k (|d| − l)/|d| + λ (Δv·d)/|d|²; f_i = σ d, f_j = −σ d.
     const __m256d stretch = _mm256_sub_pd(_mm256_mul_pd(len2, inv), _mm256_load_pd(s.rest_length));
     const __m256d damping = _mm256_mul_pd(_mm256_mul_pd(_mm256_load_pd(s.damping), speed), _mm256_mul_pd(inv, inv));
@@ -169,14 +117,6 @@ TROCAR_AVX2 void spring_forces_avx2(const SpringQuad* quads, std::size_t count, 
     }
     if constexpr (kStar) add_at(f, s.i[0], sum);
   }
-}
-
-/// a × b for (x, y, z, 0) vectors: yzx(a ∘ yzx(b) − yzx(a) ∘ b), three permutes.
-TROCAR_AVX2 inline __m256d cross(__m256d a, __m256d b) {
-  constexpr int kYzx = _MM_SHUFFLE(3, 0, 2, 1);
-  const __m256d c =
-      _mm256_fmsub_pd(a, _mm256_permute4x64_pd(b, kYzx), _mm256_mul_pd(_mm256_permute4x64_pd(a, kYzx), b));
-  return _mm256_permute4x64_pd(c, kYzx);
 }
 
 TROCAR_AVX2 Real volume_gradient_avx2(const Triangle* tris, std::size_t nt, const Padded3* x, Padded3* g) {

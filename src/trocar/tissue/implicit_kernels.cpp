@@ -18,33 +18,17 @@
 
 #include "trocar/tissue/integrator.h"
 
-#if defined(__x86_64__)
-#include <immintrin.h>
-#define TROCAR_HAVE_X86 1
-#define TROCAR_AVX2 __attribute__((target("avx2,fma")))
-#endif
+#include "trocar/tissue/avx2.h"
 
 namespace trocar::tissue_detail {
 
 #ifdef TROCAR_HAVE_X86
 namespace {
 
-constexpr Real kTinyLength2 = 1e-30;               ///< as forces.cpp
 constexpr Real kVelocityFloorPerTolerance = 0.1;   ///< as integrator_implicit.cpp (m/s)
 
-TROCAR_AVX2 inline __m256d load(const Padded3& p) { return _mm256_load_pd(&p.x); }
-TROCAR_AVX2 inline void store(Padded3& p, __m256d a) { _mm256_store_pd(&p.x, a); }
-TROCAR_AVX2 inline __m256d load_at(const Padded3* base, std::uint32_t offset) {
-  return _mm256_load_pd(reinterpret_cast<const Real*>(reinterpret_cast<const char*>(base) + offset));
-}
-TROCAR_AVX2 inline void add_at(Padded3* base, std::uint32_t offset, __m256d a) {
-  Real* p = reinterpret_cast<Real*>(reinterpret_cast<char*>(base) + offset);
-  _mm256_store_pd(p, _mm256_add_pd(_mm256_load_pd(p), a));
-}
-TROCAR_AVX2 inline void subtract_at(Padded3* base, std::uint32_t offset, __m256d a) {
-  Real* p = reinterpret_cast<Real*>(reinterpret_cast<char*>(base) + offset);
-  _mm256_store_pd(p, _mm256_sub_pd(_mm256_load_pd(p), a));
-}
+using namespace avx2;
+
 TROCAR_AVX2 inline void add_block(Block3* base, std::uint32_t vertex_offset, __m256d diagonal, __m256d off) {
   // Block3 is 64 bytes per vertex, Padded3 32: the block offset is twice the vertex offset.
   Real* p = reinterpret_cast<Real*>(reinterpret_cast<char*>(base) + 2 * std::size_t{vertex_offset});
@@ -52,20 +36,6 @@ TROCAR_AVX2 inline void add_block(Block3* base, std::uint32_t vertex_offset, __m
   _mm256_store_pd(p + 4, _mm256_add_pd(_mm256_load_pd(p + 4), off));
 }
 TROCAR_AVX2 inline __m256d vec3(const Vec3& a) { return _mm256_setr_pd(a[0], a[1], a[2], 0); }
-/// (y, z, x, ·) and (z, x, y, ·).
-TROCAR_AVX2 inline __m256d yzx(__m256d a) { return _mm256_permute4x64_pd(a, _MM_SHUFFLE(3, 0, 2, 1)); }
-TROCAR_AVX2 inline __m256d zxy(__m256d a) { return _mm256_permute4x64_pd(a, _MM_SHUFFLE(3, 1, 0, 2)); }
-/// [Σa, Σb, Σc, Σd].
-TROCAR_AVX2 inline __m256d horizontal_sums(__m256d a, __m256d b, __m256d c, __m256d d) {
-  const __m256d ab = _mm256_hadd_pd(a, b);
-  const __m256d cd = _mm256_hadd_pd(c, d);
-  return _mm256_add_pd(_mm256_permute2f128_pd(ab, cd, 0x20), _mm256_permute2f128_pd(ab, cd, 0x31));
-}
-TROCAR_AVX2 inline Real sum(__m256d a) {
-  alignas(32) Real lanes[4];
-  _mm256_store_pd(lanes, a);
-  return (lanes[0] + lanes[1]) + (lanes[2] + lanes[3]);
-}
 TROCAR_AVX2 inline Real max_lane(__m256d a) {
   alignas(32) Real lanes[4];
   _mm256_store_pd(lanes, a);
@@ -96,30 +66,15 @@ void invert(Block3& m) {
 template <bool kStar>
 TROCAR_AVX2 void linearise_springs(const std::vector<SpringQuad>& quads, CgSpringQuad* cache, const Padded3* x,
                                    const Padded3* v, Padded3* f, Block3* pre, Real h) {
-  const __m256d tiny = _mm256_set1_pd(kTinyLength2), one = _mm256_set1_pd(1.0), zero = _mm256_setzero_pd();
+  const __m256d one = _mm256_set1_pd(1.0), zero = _mm256_setzero_pd();
   const __m256d h_v = _mm256_set1_pd(h), xyz = _mm256_setr_pd(1, 1, 1, 0);
   for (std::size_t qi = 0; qi < quads.size(); ++qi) {
     const SpringQuad& sq = quads[qi];
     CgSpringQuad& cq = cache[qi];
-    __m256d d[4], w[4];
-    if constexpr (kStar) {
-      const __m256d xi = load_at(x, sq.i[0]), vi = load_at(v, sq.i[0]);
-      for (int k = 0; k < 4; ++k) {
-        d[k] = _mm256_sub_pd(load_at(x, sq.j[k]), xi);
-        w[k] = _mm256_sub_pd(load_at(v, sq.j[k]), vi);
-      }
-    } else {
-      for (int k = 0; k < 4; ++k) {
-        d[k] = _mm256_sub_pd(load_at(x, sq.j[k]), load_at(x, sq.i[k]));
-        w[k] = _mm256_sub_pd(load_at(v, sq.j[k]), load_at(v, sq.i[k]));
-      }
-    }
-    const __m256d len2 = horizontal_sums(_mm256_mul_pd(d[0], d[0]), _mm256_mul_pd(d[1], d[1]),
-                                         _mm256_mul_pd(d[2], d[2]), _mm256_mul_pd(d[3], d[3]));
-    const __m256d speed = horizontal_sums(_mm256_mul_pd(w[0], d[0]), _mm256_mul_pd(w[1], d[1]),
-                                          _mm256_mul_pd(w[2], d[2]), _mm256_mul_pd(w[3], d[3]));
-    const __m256d inv =
-        _mm256_and_pd(_mm256_div_pd(one, _mm256_sqrt_pd(len2)), _mm256_cmp_pd(len2, tiny, _CMP_GT_OQ));
+    const QuadGeometry geometry = quad_geometry<kStar>(sq, x, v);
+    const __m256d* d = geometry.d;
+    const __m256d* w = geometry.w;
+    const __m256d len2 = geometry.length2, speed = geometry.speed, inv = geometry.inverse_length;
     const __m256d rest = _mm256_load_pd(sq.rest_length), k_v = _mm256_load_pd(sq.stiffness);
     const __m256d lambda = _mm256_load_pd(sq.damping);
     const __m256d inv2 = _mm256_mul_pd(inv, inv);

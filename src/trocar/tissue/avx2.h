@@ -1,0 +1,100 @@
+#pragma once
+/// AVX2+FMA building blocks shared by the tissue module's explicit and implicit passes
+/// (internal). Every function carries the avx2,fma target attribute, so only code that has
+/// checked cpu_has_avx2_fma() may call them; the library is built for baseline x86-64.
+#if defined(__x86_64__)
+#include <immintrin.h>
+
+#include <cstdint>
+
+#include "trocar/core/types.h"
+#include "trocar/tissue/explicit_kernels.h"
+
+#define TROCAR_HAVE_X86 1
+#define TROCAR_AVX2 __attribute__((target("avx2,fma")))
+
+namespace trocar::tissue_detail::avx2 {
+
+TROCAR_AVX2 inline __m256d load(const Padded3& p) { return _mm256_load_pd(&p.x); }
+TROCAR_AVX2 inline void store(Padded3& p, __m256d a) { _mm256_store_pd(&p.x, a); }
+/// A Vec3 as (x, y, z, 0); the masked lane is not read, so the last vertex is safe.
+TROCAR_AVX2 inline __m256d load3(const Vec3& p) {
+  return _mm256_maskload_pd(p.data(), _mm256_setr_epi64x(-1, -1, -1, 0));
+}
+/// Stores x, y, z of (x, y, z, ·) as 16 + 8 bytes. (A masked 256-bit store is slower, and it
+/// stalls the next vertex's overlapping load: measured 2.6× slower update pass.)
+TROCAR_AVX2 inline void store3(Vec3& p, __m256d a) {
+  _mm_storeu_pd(p.data(), _mm256_castpd256_pd128(a));
+  _mm_store_sd(p.data() + 2, _mm256_extractf128_pd(a, 1));
+}
+
+/// The padded vector at byte offset `offset` (an index × 32, precomputed: no shift per access).
+TROCAR_AVX2 inline __m256d load_at(const Padded3* base, std::uint32_t offset) {
+  return _mm256_load_pd(reinterpret_cast<const Real*>(reinterpret_cast<const char*>(base) + offset));
+}
+TROCAR_AVX2 inline void add_at(Padded3* base, std::uint32_t offset, __m256d a) {
+  Real* p = reinterpret_cast<Real*>(reinterpret_cast<char*>(base) + offset);
+  _mm256_store_pd(p, _mm256_add_pd(_mm256_load_pd(p), a));
+}
+TROCAR_AVX2 inline void subtract_at(Padded3* base, std::uint32_t offset, __m256d a) {
+  Real* p = reinterpret_cast<Real*>(reinterpret_cast<char*>(base) + offset);
+  _mm256_store_pd(p, _mm256_sub_pd(_mm256_load_pd(p), a));
+}
+
+/// (y, z, x, ·) and (z, x, y, ·).
+TROCAR_AVX2 inline __m256d yzx(__m256d a) { return _mm256_permute4x64_pd(a, _MM_SHUFFLE(3, 0, 2, 1)); }
+TROCAR_AVX2 inline __m256d zxy(__m256d a) { return _mm256_permute4x64_pd(a, _MM_SHUFFLE(3, 1, 0, 2)); }
+/// a × b for (x, y, z, 0) vectors: yzx(a ∘ yzx(b) − yzx(a) ∘ b), three permutes.
+TROCAR_AVX2 inline __m256d cross(__m256d a, __m256d b) {
+  return yzx(_mm256_fmsub_pd(a, yzx(b), _mm256_mul_pd(yzx(a), b)));
+}
+
+/// [Σa, Σb, Σc, Σd]: four horizontal sums in one register (hadd, then swap 128-bit halves).
+TROCAR_AVX2 inline __m256d horizontal_sums(__m256d a, __m256d b, __m256d c, __m256d d) {
+  const __m256d ab = _mm256_hadd_pd(a, b);  // [a0+a1, b0+b1, a2+a3, b2+b3]
+  const __m256d cd = _mm256_hadd_pd(c, d);
+  return _mm256_add_pd(_mm256_permute2f128_pd(ab, cd, 0x20), _mm256_permute2f128_pd(ab, cd, 0x31));
+}
+/// Σ of the four lanes.
+TROCAR_AVX2 inline Real sum(__m256d a) {
+  alignas(32) Real lanes[4];
+  _mm256_store_pd(lanes, a);
+  return (lanes[0] + lanes[1]) + (lanes[2] + lanes[3]);
+}
+
+/// Four springs' geometry: d = x_j − x_i and w = v_j − v_i per spring, and lane by lane |d|²,
+/// Δv·d and 1/|d| (0 where |d|² ≤ 1e-30 or NaN, as forces.cpp's safe_inverse_sqrt; one exact
+/// vsqrtpd and vdivpd for four springs). kStar: the four share their first vertex, loaded once.
+struct QuadGeometry {
+  __m256d d[4], w[4];
+  __m256d length2, speed, inverse_length;
+};
+template <bool kStar>
+TROCAR_AVX2 inline QuadGeometry quad_geometry(const SpringQuad& s, const Padded3* x, const Padded3* v) {
+  QuadGeometry g;
+  if constexpr (kStar) {
+    const __m256d xi = load_at(x, s.i[0]), vi = load_at(v, s.i[0]);
+    for (int k = 0; k < 4; ++k) {
+      g.d[k] = _mm256_sub_pd(load_at(x, s.j[k]), xi);
+      g.w[k] = _mm256_sub_pd(load_at(v, s.j[k]), vi);
+    }
+  } else {
+    for (int k = 0; k < 4; ++k) {
+      g.d[k] = _mm256_sub_pd(load_at(x, s.j[k]), load_at(x, s.i[k]));
+      g.w[k] = _mm256_sub_pd(load_at(v, s.j[k]), load_at(v, s.i[k]));
+    }
+  }
+  const __m256d* d = g.d;
+  const __m256d* w = g.w;
+  g.length2 = horizontal_sums(_mm256_mul_pd(d[0], d[0]), _mm256_mul_pd(d[1], d[1]), _mm256_mul_pd(d[2], d[2]),
+                              _mm256_mul_pd(d[3], d[3]));
+  g.speed = horizontal_sums(_mm256_mul_pd(w[0], d[0]), _mm256_mul_pd(w[1], d[1]), _mm256_mul_pd(w[2], d[2]),
+                            _mm256_mul_pd(w[3], d[3]));
+  const __m256d tiny = _mm256_set1_pd(1e-30);  // forces.cpp's kTinyLength2
+  g.inverse_length = _mm256_and_pd(_mm256_div_pd(_mm256_set1_pd(1.0), _mm256_sqrt_pd(g.length2)),
+                                   _mm256_cmp_pd(g.length2, tiny, _CMP_GT_OQ));
+  return g;
+}
+
+}  // namespace trocar::tissue_detail::avx2
+#endif  // __x86_64__
