@@ -13,9 +13,12 @@
 // shuffle port). Spring pass 33.4 → 13.x ns per vertex.
 #include "trocar/tissue/explicit_kernels.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <string>
 #include <string_view>
+#include "trocar/core/error.h"
 #include "trocar/tissue/avx2.h"
 
 namespace trocar::tissue_detail {
@@ -177,6 +180,14 @@ TROCAR_AVX2 void copy_padded_avx2(const Vec3* p, std::size_t n, Padded3* out) {
 }  // namespace
 
 namespace {
+/// Byte offsets are 32-bit: vertex × 32 must fit (2^27 = 134,217,728 vertices).
+void check_offsets(const std::vector<Spring>& springs) {
+  constexpr std::uint64_t kLimit = std::uint64_t{1} << 27;
+  for (const Spring& sp : springs)
+    if (sp.i >= kLimit || sp.j >= kLimit)
+      throw Error("tissue: spring vertex index " + std::to_string(std::max(sp.i, sp.j)) +
+                  " is beyond the 134,217,728 vertices the padded layout addresses");
+}
 void put(SpringQuad& q, std::size_t k, const Spring& sp, bool flip) {
   q.i[k] = static_cast<std::uint32_t>((flip ? sp.j : sp.i) * sizeof(Padded3));
   q.j[k] = static_cast<std::uint32_t>((flip ? sp.i : sp.j) * sizeof(Padded3));
@@ -187,12 +198,14 @@ void put(SpringQuad& q, std::size_t k, const Spring& sp, bool flip) {
 }  // namespace
 
 std::vector<SpringQuad> make_spring_quads(const std::vector<Spring>& springs) {
+  check_offsets(springs);
   std::vector<SpringQuad> quads((springs.size() + 3) / 4);
   for (std::size_t e = 0; e < springs.size(); ++e) put(quads[e / 4], e % 4, springs[e], false);
   return quads;
 }
 
 SpringLayout make_spring_layout(const std::vector<Spring>& springs, std::size_t vertex_count) {
+  check_offsets(springs);
   // Greedy: each vertex in turn takes its not yet placed springs four at a time (a spring's force
   // is symmetric in its ends, so it may be flipped to start at the shared vertex); whatever is
   // left over goes into ordinary quads, in the original order.
