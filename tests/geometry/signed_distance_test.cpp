@@ -248,7 +248,19 @@ TEST(MeshDistance, RejectsBadInputAndHandlesEmptyMeshes) {
   const SignedDistanceResult r = empty.signed_distance(Vec3(1, 2, 3));
   EXPECT_EQ(r.triangle, MeshDistance::kNoTriangle);
   EXPECT_TRUE(std::isinf(r.distance));
+  MeshDistance::BatchScratch scratch(1);
+  std::vector<SignedDistanceResult> results(2);
+  results[1].distance = 1;
+  std::vector<std::uint32_t> hints = {MeshDistance::kNoTriangle, 5};
+  empty.signed_distances(std::span(pts).first(2), hints, results, scratch);
+  for (const SignedDistanceResult& b : results) EXPECT_EQ(b.triangle, MeshDistance::kNoTriangle);
+  EXPECT_TRUE(std::isinf(results[1].distance));
+  EXPECT_EQ(hints[1], MeshDistance::kNoTriangle);
   MeshDistance one(pts, std::vector<Triangle>{{0, 1, 2}});
+  MeshDistance::BatchScratch too_small(0);
+  EXPECT_THROW(one.signed_distances(std::span(pts).first(1), std::span(hints).first(1),
+                                    std::span(results).first(1), too_small),
+               Error);
   EXPECT_THROW(one.refit(std::vector<Vec3>(2)), Error);
   // A single triangle: above its normal side positive.
   EXPECT_NEAR(one.signed_distance(Vec3(0.2, 0.2, 0.5)).distance, 0.5, 1e-15);

@@ -204,6 +204,10 @@ MeshDistance::BatchScratch::BatchScratch(std::size_t triangles) : ids_(triangles
 void MeshDistance::signed_distances(std::span<const Vec3> points, std::span<std::uint32_t> hints,
                                     std::span<SignedDistanceResult> results,
                                     BatchScratch& scratch) const {
+  if (hints.size() != points.size() || results.size() != points.size()) {
+    throw Error("MeshDistance::signed_distances: " + std::to_string(points.size()) + " points, " +
+                std::to_string(hints.size()) + " hints, " + std::to_string(results.size()) + " results");
+  }
   if (scratch.ids_.size() < triangles_.size()) {
     throw Error("MeshDistance::signed_distances: scratch for " + std::to_string(scratch.ids_.size()) +
                 " triangles, the mesh has " + std::to_string(triangles_.size()));
@@ -218,7 +222,11 @@ void MeshDistance::signed_distances(std::span<const Vec3> points, std::span<std:
     if (hints[k] >= triangles_.size()) {
       r = signed_distance(p);
       hints[k] = r.triangle;
-      if (r.triangle == kNoTriangle) return;  // an empty mesh: every result is "no triangle"
+      if (r.triangle == kNoTriangle) {  // an empty mesh: every result is "no triangle"
+        std::fill(results.begin(), results.end(), SignedDistanceResult{});
+        std::fill(hints.begin(), hints.end(), kNoTriangle);
+        return;
+      }
     } else {
       const Triangle& tri = triangles_[hints[k]];
       const TriangleClosestPoint c = closest_point_on_triangle(p, positions_[tri[0]], positions_[tri[1]], positions_[tri[2]]);

@@ -79,8 +79,9 @@ class MeshDistance {
   /// triangle. Instead of one tree walk per point, each point's distance to its hint triangle
   /// bounds its search; one walk collects every triangle whose box is nearer than the largest
   /// bound to the batch's box (no other triangle can be nearest to any of the points), and each
-  /// point scans only those. Points without a hint get a tree query first. `scratch` must have
-  /// room for triangles().size() (throws trocar::Error otherwise). No allocation.
+  /// point scans only those. Points without a hint get a tree query first. The three spans have
+  /// one entry per point and `scratch` room for triangles().size() (throws trocar::Error
+  /// otherwise). No allocation.
   void signed_distances(std::span<const Vec3> points, std::span<std::uint32_t> hints,
                         std::span<SignedDistanceResult> results, BatchScratch& scratch) const;
   /// Same as signed_distance() by testing every triangle (a reference for tests; O(n)).
