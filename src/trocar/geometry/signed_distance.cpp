@@ -38,6 +38,40 @@ bool plane_is_no_nearer(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3&
   return (h - slack) * (h - slack) >= best * n.squaredNorm() * (1 + 1e-12);
 }
 
+/// gap[j] = squared distance from p to box j of `count` boxes stored per coordinate (lo[a][j],
+/// hi[a][j]); the same values as AabbTree::distance_squared. Branch-free, so it vectorises.
+inline __attribute__((always_inline)) void box_gaps(const Real* const lo[3], const Real* const hi[3],
+                                                    const Vec3& p, std::size_t count, Real* gap) {
+  for (std::size_t j = 0; j < count; ++j) gap[j] = 0;
+  for (int a = 0; a < 3; ++a) {
+    const Real pa = p[a];
+    for (std::size_t j = 0; j < count; ++j) {
+      const Real below = lo[a][j] - pa;
+      const Real above = pa - hi[a][j];
+      const Real g = (below > 0 ? below : 0) + (above > 0 ? above : 0);
+      gap[j] += g * g;
+    }
+  }
+}
+
+void box_gaps_portable(const Real* const lo[3], const Real* const hi[3], const Vec3& p, std::size_t count,
+                       Real* gap) {
+  box_gaps(lo, hi, p, count, gap);
+}
+
+#if defined(__x86_64__)
+// The same loop, 4 doubles wide. No FMA in the target, so no contraction: the same bits.
+__attribute__((target("avx2"))) void box_gaps_avx2(const Real* const lo[3], const Real* const hi[3],
+                                                   const Vec3& p, std::size_t count, Real* gap) {
+  box_gaps(lo, hi, p, count, gap);
+}
+
+bool cpu_has_avx2() {
+  static const bool has = __builtin_cpu_supports("avx2");
+  return has;
+}
+#endif
+
 }  // namespace
 
 MeshDistance::MeshDistance(std::span<const Vec3> positions, std::span<const Triangle> triangles)
@@ -257,21 +291,19 @@ void MeshDistance::signed_distances(std::span<const Vec3> points, std::span<std:
 
 SignedDistanceResult MeshDistance::nearest_among(const Vec3& p, const SignedDistanceResult& seed,
                                                  std::size_t count, BatchScratch& scratch) const {
-  // Squared distances from p to all candidate boxes first: a branch-free loop over the
-  // coordinate arrays that the compiler vectorises (same values as AabbTree::distance_squared).
+  // Squared distances from p to all candidate boxes first, in one vectorised pass.
   Real* gap = scratch.gap_.data();
-  for (std::size_t j = 0; j < count; ++j) gap[j] = 0;
-  for (int a = 0; a < 3; ++a) {
-    const Real* lo = scratch.box_[a].data();
-    const Real* hi = scratch.box_[3 + a].data();
-    const Real pa = p[a];
-    for (std::size_t j = 0; j < count; ++j) {
-      const Real below = lo[j] - pa;
-      const Real above = pa - hi[j];
-      const Real g = (below > 0 ? below : 0) + (above > 0 ? above : 0);
-      gap[j] += g * g;
-    }
+  const Real* const lo[3] = {scratch.box_[0].data(), scratch.box_[1].data(), scratch.box_[2].data()};
+  const Real* const hi[3] = {scratch.box_[3].data(), scratch.box_[4].data(), scratch.box_[5].data()};
+#if defined(__x86_64__)
+  if (cpu_has_avx2()) {
+    box_gaps_avx2(lo, hi, p, count, gap);
+  } else {
+    box_gaps_portable(lo, hi, p, count, gap);
   }
+#else
+  box_gaps_portable(lo, hi, p, count, gap);
+#endif
   Real best = seed.distance;  // squared
   std::uint32_t best_t = seed.triangle;
   TriangleClosestPoint best_c;
