@@ -237,6 +237,14 @@ SpringLayout make_spring_layout(const std::vector<Spring>& springs, std::size_t 
   return layout;
 }
 
+void PaddedArrays::allocate(std::size_t n, std::size_t count) {
+  constexpr std::size_t kPerPage = 4096 / sizeof(Padded3);
+  constexpr std::size_t kStagger = 13;  // Padded3s (416 bytes): 10 arrays land 416 bytes apart
+  n_ = n;
+  stride_ = (n + kPerPage - 1) / kPerPage * kPerPage + kStagger;
+  storage_.assign(stride_ * count, Padded3{});
+}
+
 bool cpu_has_avx2_fma() {
 #ifdef TROCAR_HAVE_X86
   // TROCAR_SIMD=off forces the portable passes everywhere (to compare, or to rule them out).

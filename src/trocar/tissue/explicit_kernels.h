@@ -4,6 +4,7 @@
 /// function and only runs where the CPU has it). Internal to the tissue module.
 #include <cstddef>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "trocar/core/types.h"
@@ -15,6 +16,22 @@ namespace trocar::tissue_detail {
 /// aligned 256-bit access instead of three scalar ones.
 struct alignas(32) Padded3 {
   Real x = 0, y = 0, z = 0, w = 0;
+};
+
+/// `count` arrays of n padded vectors in one block, each starting 13 × 32 bytes further modulo
+/// 4 KiB than the one before. Same-size arrays from separate allocations start at the same
+/// offset in their page once they are large enough to be mmap'ed, and then a load of x[j] just
+/// after a store to f[j] looks to the CPU like a dependence on that store ("4K aliasing";
+/// measured: an implicit step on a Morton-ordered gallbladder 673 → 501 ns/vertex).
+class PaddedArrays {
+ public:
+  /// Zeroed arrays; earlier spans are invalidated.
+  void allocate(std::size_t n, std::size_t count);
+  std::span<Padded3> operator[](std::size_t k) { return {storage_.data() + k * stride_, n_}; }
+
+ private:
+  std::vector<Padded3> storage_;
+  std::size_t n_ = 0, stride_ = 0;
 };
 
 /// Four springs' data lane by lane (structure of arrays), so the AVX2 pass loads each parameter

@@ -166,7 +166,9 @@ ImplicitAvx2::ImplicitAvx2(const MassSpringSettings& settings)
         (*cache)[q].j[k] = (*quads)[q].j[k];
       }
   }
-  for (std::vector<Padded3>* a : {&x_, &v_, &rest_, &f_, &dv_, &r_, &p_, &z_, &q_, &gradient_}) a->assign(n, Padded3{});
+  std::span<Padded3>* arrays[] = {&x_, &v_, &rest_, &f_, &dv_, &r_, &p_, &z_, &q_, &gradient_};
+  arrays_.allocate(n, std::size(arrays));
+  for (std::size_t k = 0; k < std::size(arrays); ++k) *arrays[k] = arrays_[k];
   copy_padded(settings.rest_positions.data(), n, rest_.data());
   preconditioner_.assign(n, Block3{});
   diagonal_mass_.assign(n, 0.0);

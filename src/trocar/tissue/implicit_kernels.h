@@ -5,6 +5,7 @@
 /// Used when the CPU has AVX2+FMA and the area term is off (the area term's implicit part is
 /// only in the portable solver). Internal to the tissue module.
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "trocar/core/types.h"
@@ -56,7 +57,8 @@ class ImplicitAvx2 {
   const MassSpringSettings& settings_;
   SpringLayout springs_;                       ///< the springs' parameters, four by four
   std::vector<CgSpringQuad> cache_stars_, cache_others_;  ///< this step's spring blocks
-  std::vector<Padded3> x_, v_, rest_, f_, dv_, r_, p_, z_, q_, gradient_;
+  PaddedArrays arrays_;  ///< storage of the spans below, staggered against 4K aliasing
+  std::span<Padded3> x_, v_, rest_, f_, dv_, r_, p_, z_, q_, gradient_;
   std::vector<Block3> preconditioner_;         ///< A_ii, then inverted in place
   std::vector<Real> diagonal_mass_, free_;
   Real six_volume_ = 0;

@@ -42,11 +42,12 @@ MassSpringIntegrator::MassSpringIntegrator(const MassSpringSettings& settings, I
   volume_gradient_.assign(n, Vec3::Zero());
   use_avx2_ = tissue_detail::cpu_has_avx2_fma();
   if (kind != IntegratorKind::kImplicitEuler) {
-    pair_forces_.assign(n, tissue_detail::Padded3{});
-    padded_volume_gradient_.assign(n, tissue_detail::Padded3{});
-    padded_positions_.assign(n, tissue_detail::Padded3{});
-    padded_velocities_.assign(n, tissue_detail::Padded3{});
-    padded_rest_.assign(n, tissue_detail::Padded3{});
+    padded_.allocate(n, 5);
+    pair_forces_ = padded_[0];
+    padded_volume_gradient_ = padded_[1];
+    padded_positions_ = padded_[2];
+    padded_velocities_ = padded_[3];
+    padded_rest_ = padded_[4];
     tissue_detail::copy_padded(settings.rest_positions.data(), n, padded_rest_.data());
     spring_layout_ = tissue_detail::make_spring_layout(settings.springs, n);
     return;

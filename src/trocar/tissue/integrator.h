@@ -101,9 +101,10 @@ class MassSpringIntegrator {
   std::vector<Vec3> forces_, dv_, residual_, direction_, product_, scratch_;
   // Explicit: spring and area forces, and Σ n_t per vertex, padded for the AVX2 passes; both
   // are all zero between steps (the update pass zeroes what it reads).
-  std::vector<tissue_detail::Padded3> pair_forces_, padded_volume_gradient_;
-  std::vector<tissue_detail::Padded3> padded_positions_, padded_velocities_;  ///< copies of the state
-  std::vector<tissue_detail::Padded3> padded_rest_;  ///< the rest positions
+  tissue_detail::PaddedArrays padded_;  ///< storage of the five spans below
+  std::span<tissue_detail::Padded3> pair_forces_, padded_volume_gradient_;
+  std::span<tissue_detail::Padded3> padded_positions_, padded_velocities_;  ///< copies of the state
+  std::span<tissue_detail::Padded3> padded_rest_;  ///< the rest positions
   tissue_detail::SpringLayout spring_layout_;  ///< the springs, four by four
   /// Implicit: the AVX2 solver (where the CPU has AVX2+FMA), used unless the area term is on.
   std::unique_ptr<tissue_detail::ImplicitAvx2> implicit_avx2_;
