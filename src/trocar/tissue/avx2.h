@@ -84,12 +84,22 @@ TROCAR_AVX2 inline QuadGeometry quad_geometry(const SpringQuad& s, const Padded3
       g.w[k] = _mm256_sub_pd(load_at(v, s.j[k]), load_at(v, s.i[k]));
     }
   }
+  // Transpose d and w to (x, y, z) rows of four springs (4 unpacks + 3 lane swaps each), then
+  // |d|² and Δv·d are three multiply-adds each.
   const __m256d* d = g.d;
   const __m256d* w = g.w;
-  g.length2 = horizontal_sums(_mm256_mul_pd(d[0], d[0]), _mm256_mul_pd(d[1], d[1]), _mm256_mul_pd(d[2], d[2]),
-                              _mm256_mul_pd(d[3], d[3]));
-  g.speed = horizontal_sums(_mm256_mul_pd(w[0], d[0]), _mm256_mul_pd(w[1], d[1]), _mm256_mul_pd(w[2], d[2]),
-                            _mm256_mul_pd(w[3], d[3]));
+  const auto rows = [](const __m256d* a, __m256d& x, __m256d& y, __m256d& z) TROCAR_AVX2 {
+    const __m256d t0 = _mm256_unpacklo_pd(a[0], a[1]), t1 = _mm256_unpackhi_pd(a[0], a[1]);
+    const __m256d t2 = _mm256_unpacklo_pd(a[2], a[3]), t3 = _mm256_unpackhi_pd(a[2], a[3]);
+    x = _mm256_permute2f128_pd(t0, t2, 0x20);
+    y = _mm256_permute2f128_pd(t1, t3, 0x20);
+    z = _mm256_permute2f128_pd(t0, t2, 0x31);
+  };
+  __m256d dx, dy, dz, wx, wy, wz;
+  rows(d, dx, dy, dz);
+  rows(w, wx, wy, wz);
+  g.length2 = _mm256_fmadd_pd(dz, dz, _mm256_fmadd_pd(dy, dy, _mm256_mul_pd(dx, dx)));
+  g.speed = _mm256_fmadd_pd(wz, dz, _mm256_fmadd_pd(wy, dy, _mm256_mul_pd(wx, dx)));
   const __m256d tiny = _mm256_set1_pd(1e-30);  // forces.cpp's kTinyLength2
   g.inverse_length = _mm256_and_pd(_mm256_div_pd(_mm256_set1_pd(1.0), _mm256_sqrt_pd(g.length2)),
                                    _mm256_cmp_pd(g.length2, tiny, _CMP_GT_OQ));
