@@ -11,15 +11,16 @@ namespace trocar {
 
 /// OHC tuning. The defaults are what the simulator uses.
 struct OhcSettings {
-  /// Grid cell edge (metres); 0 = automatic: auto_cell_factor × the mean edge length of the
-  /// primitives hashed this frame (those in the objects' box overlaps).
+  /// Grid cell edge (metres); 0 = automatic: auto_cell_factor × the root-mean-square edge
+  /// length of the primitives hashed this frame (those in the objects' box overlaps; RMS needs
+  /// one square root per frame, a mean three per primitive).
   Real cell_size = 0;
-  /// Multiplier of the mean edge length for the automatic cell size (dimensionless). 2 rather
+  /// Multiplier of the RMS edge length for the automatic cell size (dimensionless). 2 rather
   /// than 1: with a tool finer than the tissue (a jaw's 1 mm triangles against 2.5 mm ones),
   /// cells of one mean edge put each clipped box in ~5 cells, and hashing those entries cost
-  /// more than the longer per-cell pair lists of larger cells (bench_collision scene a,
-  /// instructions per frame: factor 1 912K, 1.5 838K, 2 800K, 3 793K; scene b 1.21M, 1.17M,
-  /// 1.17M, 1.16M).
+  /// more than the longer per-cell pair lists of larger cells (bench_collision scene a, with
+  /// the mean edge, instructions per frame: factor 1 912K, 1.5 838K, 2 800K, 3 793K; scene b
+  /// 1.21M, 1.17M, 1.17M, 1.16M; with the RMS edge 1.5, 1.75, 2 gave 781K, 779K, 766K).
   Real auto_cell_factor = 2.0;
   /// Object-level cascade: hash only the primitives whose box touches the overlap of their
   /// object's box with a partner's box. false hashes every primitive of every object that
