@@ -22,7 +22,7 @@ void BM_ProbeLiverStep(benchmark::State& state) {
   for (int n = 0; n < 600; ++n) sim.step(1e-3);
   StageTimings sum{};
   std::int64_t steps = 0;
-  std::uint64_t contacts = 0;
+  std::uint64_t contacts = 0, cg_iterations = 0;
   for (auto _ : state) {
     const StepMetrics& m = sim.step(1e-3);
     sum.broad_phase += m.timings.broad_phase;
@@ -33,6 +33,7 @@ void BM_ProbeLiverStep(benchmark::State& state) {
     sum.motion += m.timings.motion;
     sum.step += m.timings.step;
     contacts += m.contacts;
+    cg_iterations += m.cg_iterations;
     ++steps;
   }
   const auto mean = [&](double v) { return benchmark::Counter(v / static_cast<double>(std::max<std::int64_t>(steps, 1))); };
@@ -45,6 +46,7 @@ void BM_ProbeLiverStep(benchmark::State& state) {
   // The step's own wall time (the rest of step_us beyond the stages is bookkeeping).
   state.counters["step_us"] = mean(sum.step);
   state.counters["contacts"] = mean(static_cast<double>(contacts));
+  state.counters["cg_iterations"] = mean(static_cast<double>(cg_iterations));
 }
 BENCHMARK(BM_ProbeLiverStep)->Arg(1)->Arg(0)->Unit(benchmark::kMicrosecond)->Iterations(2000)->Repetitions(5)
     ->ReportAggregatesOnly(true);

@@ -248,6 +248,7 @@ void Simulation::deform(Real dt) {
     TissueBody& tissue = *world_.tissues[t];
     const StepStats stats = tissue.integrator.step(tissue.state, tissue.loads, dt);
     metrics_.finite = metrics_.finite && stats.finite;
+    metrics_.cg_iterations += static_cast<std::uint32_t>(stats.cg_iterations);
     for (std::size_t i = 0; i < ni; ++i) {
       ResponseSolver& s = solver(i, t);
       s.apply_corrections(tissue.state.positions);

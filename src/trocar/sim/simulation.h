@@ -64,6 +64,7 @@ struct StepMetrics {
   Real elastic_energy = 0;           ///< springs, area, volume, home springs (J; gravity excluded)
   Real max_speed = 0;                ///< fastest tissue vertex (m/s)
   bool finite = true;                ///< every position and velocity is finite
+  std::uint32_t cg_iterations = 0;   ///< conjugate-gradient iterations of the implicit tissues
   StageTimings timings;              ///< µs per stage
 };
 
