@@ -62,6 +62,15 @@ TROCAR_AVX2 inline Real sum(__m256d a) {
   return (lanes[0] + lanes[1]) + (lanes[2] + lanes[3]);
 }
 
+/// The x, y and z rows of four (x, y, z, ·) vectors: 4 unpacks and 3 lane swaps.
+TROCAR_AVX2 inline void transpose_rows(const __m256d* a, __m256d& rx, __m256d& ry, __m256d& rz) {
+  const __m256d t0 = _mm256_unpacklo_pd(a[0], a[1]), t1 = _mm256_unpackhi_pd(a[0], a[1]);
+  const __m256d t2 = _mm256_unpacklo_pd(a[2], a[3]), t3 = _mm256_unpackhi_pd(a[2], a[3]);
+  rx = _mm256_permute2f128_pd(t0, t2, 0x20);
+  ry = _mm256_permute2f128_pd(t1, t3, 0x20);
+  rz = _mm256_permute2f128_pd(t0, t2, 0x31);
+}
+
 /// Four springs' geometry: d = x_j − x_i and w = v_j − v_i per spring, and lane by lane |d|²,
 /// Δv·d and 1/|d| (0 where |d|² ≤ 1e-30 or NaN, as forces.cpp's safe_inverse_sqrt; one exact
 /// vsqrtpd and vdivpd for four springs). kStar: the four share their first vertex, loaded once.
@@ -84,20 +93,12 @@ TROCAR_AVX2 inline QuadGeometry quad_geometry(const SpringQuad& s, const Padded3
       g.w[k] = _mm256_sub_pd(load_at(v, s.j[k]), load_at(v, s.i[k]));
     }
   }
-  // Transpose d and w to (x, y, z) rows of four springs (4 unpacks + 3 lane swaps each), then
-  // |d|² and Δv·d are three multiply-adds each.
+  // d and w as (x, y, z) rows of four springs; then |d|² and Δv·d are three multiply-adds each.
   const __m256d* d = g.d;
   const __m256d* w = g.w;
-  const auto rows = [](const __m256d* a, __m256d& x, __m256d& y, __m256d& z) TROCAR_AVX2 {
-    const __m256d t0 = _mm256_unpacklo_pd(a[0], a[1]), t1 = _mm256_unpackhi_pd(a[0], a[1]);
-    const __m256d t2 = _mm256_unpacklo_pd(a[2], a[3]), t3 = _mm256_unpackhi_pd(a[2], a[3]);
-    x = _mm256_permute2f128_pd(t0, t2, 0x20);
-    y = _mm256_permute2f128_pd(t1, t3, 0x20);
-    z = _mm256_permute2f128_pd(t0, t2, 0x31);
-  };
   __m256d dx, dy, dz, wx, wy, wz;
-  rows(d, dx, dy, dz);
-  rows(w, wx, wy, wz);
+  transpose_rows(d, dx, dy, dz);
+  transpose_rows(w, wx, wy, wz);
   g.length2 = _mm256_fmadd_pd(dz, dz, _mm256_fmadd_pd(dy, dy, _mm256_mul_pd(dx, dx)));
   g.speed = _mm256_fmadd_pd(wz, dz, _mm256_fmadd_pd(wy, dy, _mm256_mul_pd(wx, dx)));
   const __m256d tiny = _mm256_set1_pd(1e-30);  // forces.cpp's kTinyLength2
