@@ -5,12 +5,13 @@
 // spring is ~80 instructions and the spring pass was two thirds of a semi-implicit step. Here
 // the state is first copied into 32-byte padded vectors (x, y, z, 0), so each endpoint is one
 // aligned 256-bit load and each force one aligned load-add-store; the spring parameters are
-// stored four springs lane by lane (SpringQuad), so they load without shuffles; four springs'
-// |d|² and Δv·d come out of one horizontal-add transpose; σ is computed for four springs at
-// once with one exact vsqrtpd and one vdivpd (a float rsqrt estimate plus Newton steps in double
-// measured 12 % slower: the shuffles, not the divider, are the bottleneck); and σ goes back to
-// each spring by a broadcast load from a stack array (a load port) rather than a permute (the
-// shuffle port). Spring pass 33.4 → 13.x ns per vertex.
+// stored four springs lane by lane (SpringQuad), so they load without shuffles; most quads are
+// stars (four springs sharing their first vertex, loaded and written once); four springs' |d|²
+// and Δv·d come from one transpose of d and w (avx2.h); σ is computed for four springs at once
+// with one exact vsqrtpd and one vdivpd (a float rsqrt estimate plus Newton steps in double was
+// no faster: the divider is not the bottleneck); and σ goes back to each spring by a broadcast
+// load from a stack array (a load port) rather than a permute (the shuffle port). Spring pass
+// 33.4 → 12.1 ns per vertex (docs/tissue-integrators.md, "The AVX2 passes").
 #include "trocar/tissue/explicit_kernels.h"
 
 #include <algorithm>
@@ -18,6 +19,7 @@
 #include <cstdlib>
 #include <string>
 #include <string_view>
+
 #include "trocar/core/error.h"
 #include "trocar/tissue/avx2.h"
 
