@@ -2,9 +2,10 @@
 // (system A Δv = b, spring blocks a u uᵀ + b I, volume rank-one term, contacts, block-Jacobi
 // preconditioner, warm start, stopping rule); this file only changes the layout:
 //  * every vertex vector is padded to (x, y, z, 0), so it is one aligned 256-bit access;
-//  * the spring force pass takes four springs at a time (|d|² and Δv·d of four springs from one
-//    horizontal-add transpose, one vsqrtpd and one vdivpd for four 1/|d|) and writes the CG
-//    cache four springs at a time (CgSpringQuad);
+//  * the spring force pass takes four springs at a time (avx2.h's quad_geometry: |d|², Δv·d and
+//    1/|d| of four springs from one transpose and one vsqrtpd + vdivpd) and writes the CG cache
+//    four springs at a time (CgSpringQuad); star quads (four springs sharing their first
+//    vertex) load and write that vertex once, here and in the product;
 //  * in the CG product a spring is: two loads of p, one of u, u·δ for four springs at once,
 //    two broadcasts, and two read-modify-writes of A·p;
 //  * the preconditioner blocks are (xx, yy, zz, 0 | xy, yz, zx, 0), so P⁻¹ r is two multiplies
@@ -16,9 +17,8 @@
 #include <cmath>
 #include <utility>
 
-#include "trocar/tissue/integrator.h"
-
 #include "trocar/tissue/avx2.h"
+#include "trocar/tissue/integrator.h"
 
 namespace trocar::tissue_detail {
 
@@ -48,6 +48,11 @@ TROCAR_AVX2 inline __m256d block_times(const Block3& m, __m256d r) {
                          _mm256_fmadd_pd(off, yzx(r), _mm256_mul_pd(zxy(off), zxy(r))));
 }
 TROCAR_AVX2 inline __m256d absolute(__m256d a) { return _mm256_andnot_pd(_mm256_set1_pd(-0.0), a); }
+
+/// The volume term is on (closed mesh, k_volume > 0): integrator_implicit.cpp's volume_on.
+bool volume_on(const MassSpringSettings& s, const ForceTerms& terms) {
+  return terms.volume && s.closed && s.k_volume > 0 && s.rest_volume > 0 && !s.triangles.empty();
+}
 
 /// The inverse of a symmetric positive definite block by cofactors (integrator_implicit.cpp's).
 void invert(Block3& m) {
@@ -219,7 +224,7 @@ TROCAR_AVX2 void ImplicitAvx2::linearise(const TissueLoads& loads, Real h, const
   }
 
   // Volume: ∇V_i = Σ_{t∋i} n_t/6; f += (−κ_V (V − V0) − h κ_V (∇V·v₀)) ∇V; A_ii += h² κ_V ∇V_i ∇V_iᵀ.
-  const bool volume = terms.volume && s.closed && s.k_volume > 0 && s.rest_volume > 0 && !s.triangles.empty();
+  const bool volume = volume_on(s, terms);
   if (volume) {
     std::fill(gradient_.begin(), gradient_.end(), Padded3{});
     six_volume_ = add_volume_gradient(s, x_.data(), gradient_.data(), true);
@@ -286,7 +291,7 @@ TROCAR_AVX2 Real ImplicitAvx2::apply_system(const TissueLoads& loads, Real h, Re
     pap_contacts += g * sl;
   }
   const MassSpringSettings& s = settings_;
-  const bool volume = terms.volume && s.closed && s.k_volume > 0 && s.rest_volume > 0 && !s.triangles.empty();
+  const bool volume = volume_on(s, terms);
   const Real pap_volume = volume ? h * h * s.k_volume / s.rest_volume * volume_slope * volume_slope : 0.0;
   return sum(pap_a) + sum(pap_b) + pap_contacts + pap_volume;
 }
@@ -299,7 +304,7 @@ TROCAR_AVX2 StepStats ImplicitAvx2::step(MassSpringState& state, const TissueLoa
   copy_padded(state.velocities.data(), n, v_.data());
   linearise(loads, h, terms);
 
-  const bool volume = terms.volume && s.closed && s.k_volume > 0 && s.rest_volume > 0 && !s.triangles.empty();
+  const bool volume = volume_on(s, terms);
   const Real c_volume = volume ? h * h * s.k_volume / s.rest_volume : 0.0;
   const Padded3* gv = gradient_.data();
   const Real* free = free_.data();
