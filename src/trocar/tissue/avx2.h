@@ -9,6 +9,7 @@
 
 #include "trocar/core/types.h"
 #include "trocar/tissue/explicit_kernels.h"
+#include "trocar/tissue/internal.h"
 
 #define TROCAR_HAVE_X86 1
 #define TROCAR_AVX2 __attribute__((target("avx2,fma")))
@@ -72,7 +73,7 @@ TROCAR_AVX2 inline void transpose_rows(const __m256d* a, __m256d& rx, __m256d& r
 }
 
 /// Four springs' geometry: d = x_j − x_i and w = v_j − v_i per spring, and lane by lane |d|²,
-/// Δv·d and 1/|d| (0 where |d|² ≤ 1e-30 or NaN, as forces.cpp's safe_inverse_sqrt; one exact
+/// Δv·d and 1/|d| (0 where |d|² ≤ kTinyLength2 or NaN, as safe_inverse_sqrt; one exact
 /// vsqrtpd and vdivpd for four springs). kStar: the four share their first vertex, loaded once.
 struct QuadGeometry {
   __m256d d[4], w[4];
@@ -101,7 +102,7 @@ TROCAR_AVX2 inline QuadGeometry quad_geometry(const SpringQuad& s, const Padded3
   transpose_rows(w, wx, wy, wz);
   g.length2 = _mm256_fmadd_pd(dz, dz, _mm256_fmadd_pd(dy, dy, _mm256_mul_pd(dx, dx)));
   g.speed = _mm256_fmadd_pd(wz, dz, _mm256_fmadd_pd(wy, dy, _mm256_mul_pd(wx, dx)));
-  const __m256d tiny = _mm256_set1_pd(1e-30);  // forces.cpp's kTinyLength2
+  const __m256d tiny = _mm256_set1_pd(kTinyLength2);
   g.inverse_length = _mm256_and_pd(_mm256_div_pd(_mm256_set1_pd(1.0), _mm256_sqrt_pd(g.length2)),
                                    _mm256_cmp_pd(g.length2, tiny, _CMP_GT_OQ));
   return g;

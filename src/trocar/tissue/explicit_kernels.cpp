@@ -22,11 +22,10 @@
 
 #include "trocar/core/error.h"
 #include "trocar/tissue/avx2.h"
+#include "trocar/tissue/internal.h"
 
 namespace trocar::tissue_detail {
 namespace {
-
-constexpr Real kTinyLength2 = 1e-30;  ///< forces.cpp's: below it a spring has no direction
 
 /// Lane k of a quad, scalar (forces.cpp's spring_forces body).
 inline void spring_scalar(const SpringQuad& q, int k, const Padded3* x, const Padded3* v, Padded3* f) {

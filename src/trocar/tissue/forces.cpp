@@ -13,6 +13,7 @@
 #include "trocar/tissue/forces.h"
 
 #include "trocar/tissue/explicit_kernels.h"
+#include "trocar/tissue/internal.h"
 
 #include <algorithm>
 #include <cassert>
@@ -21,53 +22,15 @@
 namespace trocar {
 namespace {
 
-/// Squared spring length (m²) below which a spring has no direction (1e-15 m: far below any
-/// mesh edge, far above the denormal range so 1/|d| stays finite).
-constexpr Real kTinyLength2 = 1e-30;
-/// Squared |n| = (2A)² (m⁴) below which a triangle has no normal (A < 5e-16 m²).
-constexpr Real kTinyNormal2 = 1e-30;
+using namespace tissue_detail;
 
-/// 1/|d| for a squared length, or 0 for a degenerate one (so u = d·inv is 0, never NaN).
-inline Real safe_inverse_sqrt(Real length2, Real tiny2) { return length2 > tiny2 ? 1.0 / std::sqrt(length2) : 0.0; }
-
-/// A plain 3-vector for the hot loops. Eigen's Vec3 arithmetic packs (x, y) into an SSE register
-/// and, for values computed lane by lane (cross products), builds that packet through the stack,
-/// which stalls store forwarding (measured: the area pass ran 2.5× slower). Scalar code avoids it.
-struct P3 {
-  Real x, y, z;
-};
-inline P3 load(const Vec3& v) { return {v[0], v[1], v[2]}; }
-inline P3 operator-(const P3& a, const P3& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-inline P3 operator+(const P3& a, const P3& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-inline P3 operator*(Real s, const P3& a) { return {s * a.x, s * a.y, s * a.z}; }
-inline Real dot(const P3& a, const P3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-inline P3 cross(const P3& a, const P3& b) {
-  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
-}
-inline void add_to(Vec3& f, const P3& a) {
-  f[0] += a.x;
-  f[1] += a.y;
-  f[2] += a.z;
-}
-inline void subtract_from(Vec3& f, const P3& a) {
-  f[0] -= a.x;
-  f[1] -= a.y;
-  f[2] -= a.z;
-}
 // The same into the explicit integrators' padded force layout.
-using tissue_detail::Padded3;
 inline void add_to(Padded3& f, const P3& a) {
   f.x += a.x;
   f.y += a.y;
   f.z += a.z;
 }
 
-bool area_active(const MassSpringSettings& s, const ForceTerms& t) {
-  return t.area && s.k_area > 0 && s.mean_rest_area > 0 && s.rest_areas.size() == s.triangles.size();
-}
-bool volume_active(const MassSpringSettings& s, const ForceTerms& t) {
-  return t.volume && s.closed && s.k_volume > 0 && s.rest_volume > 0;
-}
 
 // ---------------------------------------------------------------------------------------------
 // Springs (eq. 3.2)
@@ -224,8 +187,8 @@ template <class Force>
 }
 
 void triangle_forces(const MassSpringSettings& s, const Vec3* x, Vec3* f, const ForceTerms& terms) {
-  if (area_active(s, terms)) area_forces(s, x, f);
-  if (volume_active(s, terms))  // pressure p = −κ_V (V − V0) on every triangle
+  if (area_term_on(s, terms)) area_forces(s, x, f);
+  if (volume_term_on(s, terms))  // pressure p = −κ_V (V − V0) on every triangle
     add_volume_gradient(s, x, -s.k_volume / s.rest_volume * (volume_of(s, x) - s.rest_volume), f);
 }
 
@@ -265,8 +228,8 @@ void triangle_forces(const MassSpringSettings& s, const Vec3* x, Vec3* f, const 
 
 void triangle_stiffness_product(const MassSpringSettings& s, const Vec3* x, const Vec3* dx, Vec3* out,
                                 const ForceTerms& terms) {
-  if (area_active(s, terms)) area_stiffness_product(s, x, dx, out);
-  if (volume_active(s, terms))
+  if (area_term_on(s, terms)) area_stiffness_product(s, x, dx, out);
+  if (volume_term_on(s, terms))
     add_volume_gradient(s, x, -s.k_volume / s.rest_volume * volume_slope(s, x, dx), out);
 }
 
@@ -274,7 +237,7 @@ void triangle_stiffness_product(const MassSpringSettings& s, const Vec3* x, cons
 
 namespace tissue_detail {
 void add_area_forces(const MassSpringSettings& s, const Vec3* x, Padded3* f) {
-  if (s.k_area > 0 && s.mean_rest_area > 0 && s.rest_areas.size() == s.triangles.size()) area_forces(s, x, f);
+  if (area_term_on(s, ForceTerms{})) area_forces(s, x, f);
 }
 }  // namespace tissue_detail
 
@@ -303,7 +266,7 @@ Real potential_energy(const MassSpringSettings& s, std::span<const Vec3> x, cons
   const Vec3* xp = x.data();
   Real e = 0;
   if (terms.springs) e += spring_energy(s, xp);
-  if (area_active(s, terms)) {
+  if (area_term_on(s, terms)) {
     Real sum = 0;
     for (std::size_t t = 0; t < s.triangles.size(); ++t) {
       const P3 n = triangle_geometry(s.triangles[t], xp).n;
@@ -312,7 +275,7 @@ Real potential_energy(const MassSpringSettings& s, std::span<const Vec3> x, cons
     }
     e += 0.5 * s.k_area / s.mean_rest_area * sum;
   }
-  if (volume_active(s, terms) && !s.triangles.empty()) {
+  if (volume_term_on(s, terms) && !s.triangles.empty()) {
     const Real dv = volume_of(s, xp) - s.rest_volume;
     e += 0.5 * s.k_volume / s.rest_volume * dv * dv;
   }

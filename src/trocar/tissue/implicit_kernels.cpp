@@ -19,6 +19,7 @@
 
 #include "trocar/tissue/avx2.h"
 #include "trocar/tissue/integrator.h"
+#include "trocar/tissue/internal.h"
 
 namespace trocar::tissue_detail {
 
@@ -49,10 +50,6 @@ TROCAR_AVX2 inline __m256d block_times(const Block3& m, __m256d r) {
 }
 TROCAR_AVX2 inline __m256d absolute(__m256d a) { return _mm256_andnot_pd(_mm256_set1_pd(-0.0), a); }
 
-/// The volume term is on (closed mesh, k_volume > 0): integrator_implicit.cpp's volume_on.
-bool volume_on(const MassSpringSettings& s, const ForceTerms& terms) {
-  return terms.volume && s.closed && s.k_volume > 0 && s.rest_volume > 0 && !s.triangles.empty();
-}
 
 /// The inverse of a symmetric positive definite block by cofactors (integrator_implicit.cpp's).
 void invert(Block3& m) {
@@ -182,8 +179,7 @@ ImplicitAvx2::ImplicitAvx2(const MassSpringSettings& settings)
 }
 
 bool ImplicitAvx2::supports(const MassSpringSettings& s, const ForceTerms& terms) {
-  const bool area = terms.area && s.k_area > 0 && s.mean_rest_area > 0 && s.rest_areas.size() == s.triangles.size();
-  return !area;
+  return !area_term_on(s, terms);
 }
 
 #ifdef TROCAR_HAVE_X86
@@ -224,7 +220,7 @@ TROCAR_AVX2 void ImplicitAvx2::linearise(const TissueLoads& loads, Real h, const
   }
 
   // Volume: ∇V_i = Σ_{t∋i} n_t/6; f += (−κ_V (V − V0) − h κ_V (∇V·v₀)) ∇V; A_ii += h² κ_V ∇V_i ∇V_iᵀ.
-  const bool volume = volume_on(s, terms);
+  const bool volume = volume_term_on(s, terms);
   if (volume) {
     std::fill(gradient_.begin(), gradient_.end(), Padded3{});
     six_volume_ = add_volume_gradient(s, x_.data(), gradient_.data(), true);
@@ -291,7 +287,7 @@ TROCAR_AVX2 Real ImplicitAvx2::apply_system(const TissueLoads& loads, Real h, Re
     pap_contacts += g * sl;
   }
   const MassSpringSettings& s = settings_;
-  const bool volume = volume_on(s, terms);
+  const bool volume = volume_term_on(s, terms);
   const Real pap_volume = volume ? h * h * s.k_volume / s.rest_volume * volume_slope * volume_slope : 0.0;
   return sum(pap_a) + sum(pap_b) + pap_contacts + pap_volume;
 }
@@ -304,7 +300,7 @@ TROCAR_AVX2 StepStats ImplicitAvx2::step(MassSpringState& state, const TissueLoa
   copy_padded(state.velocities.data(), n, v_.data());
   linearise(loads, h, terms);
 
-  const bool volume = volume_on(s, terms);
+  const bool volume = volume_term_on(s, terms);
   const Real c_volume = volume ? h * h * s.k_volume / s.rest_volume : 0.0;
   const Padded3* gv = gradient_.data();
   const Real* free = free_.data();

@@ -32,14 +32,12 @@ MassSpringIntegrator::MassSpringIntegrator(const MassSpringSettings& settings, I
                                            ImplicitOptions options)
     : settings_(settings), kind_(kind), options_(options) {
   const std::size_t n = settings.vertex_count();
-  forces_.assign(n, Vec3::Zero());
   free_.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     free_[i] = settings.fixed[i] ? 0.0 : 1.0;
     if (settings.fixed[i]) fixed_indices_.push_back(static_cast<std::uint32_t>(i));
   }
   fixed_positions_.assign(fixed_indices_.size(), Vec3::Zero());
-  volume_gradient_.assign(n, Vec3::Zero());
   use_avx2_ = tissue_detail::cpu_has_avx2_fma();
   if (kind != IntegratorKind::kImplicitEuler) {
     padded_.allocate(n, 5);
@@ -54,6 +52,8 @@ MassSpringIntegrator::MassSpringIntegrator(const MassSpringSettings& settings, I
   }
 
   if (use_avx2_) implicit_avx2_ = std::make_unique<tissue_detail::ImplicitAvx2>(settings);
+  forces_.assign(n, Vec3::Zero());
+  volume_gradient_.assign(n, Vec3::Zero());
   dv_.assign(n, Vec3::Zero());
   residual_.assign(n, Vec3::Zero());
   direction_.assign(n, Vec3::Zero());
@@ -63,8 +63,6 @@ MassSpringIntegrator::MassSpringIntegrator(const MassSpringSettings& settings, I
   diagonal_mass_.assign(n, 0.0);
   spring_cache_.resize(settings.springs.size());
   triangle_cache_.resize(settings.triangles.size());
-  spring_order_.resize(settings.springs.size());
-  for (std::size_t e = 0; e < spring_order_.size(); ++e) spring_order_[e] = static_cast<std::uint32_t>(e);
 }
 
 StepStats MassSpringIntegrator::step(MassSpringState& state, const TissueLoads& loads, Real dt) {

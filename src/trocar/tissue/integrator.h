@@ -95,9 +95,10 @@ class MassSpringIntegrator {
   IntegratorKind kind_;
   ImplicitOptions options_;
   ForceTerms terms_;
-  // Scratch, sized V at construction (the implicit solve's only for the implicit kind).
-  // Implicit: dv_ is Δv (kept between steps: the next solve starts from it), residual_ the CG
-  // residual r, direction_ the direction p, product_ A·p, scratch_ the preconditioned z.
+  // Scratch of the portable implicit solve, sized V at construction for the implicit kind:
+  // forces_ is f₀ (+ h K v₀), dv_ is Δv (kept between steps: the next solve starts from it),
+  // residual_ the CG residual r, direction_ the direction p, product_ A·p, scratch_ the
+  // preconditioned z.
   std::vector<Vec3> forces_, dv_, residual_, direction_, product_, scratch_;
   // Explicit: spring and area forces, and Σ n_t per vertex, padded for the AVX2 passes; both
   // are all zero between steps (the update pass zeroes what it reads).
@@ -114,7 +115,6 @@ class MassSpringIntegrator {
   std::vector<Vec3> volume_gradient_;    ///< ∇V at this step's positions (m²)
   std::vector<CachedSpring> spring_cache_;      ///< per spring, rebuilt once per implicit step
   std::vector<CachedTriangle> triangle_cache_;  ///< per triangle (when the area term is on)
-  std::vector<std::uint32_t> spring_order_;     ///< springs in the order the CG passes visit them
   std::vector<Real> free_;               ///< 1 for free vertices, 0 for fixed (the filter S)
   std::vector<std::uint32_t> fixed_indices_;  ///< the fixed vertices
   std::vector<Vec3> fixed_positions_;    ///< their positions at the start of a step

@@ -56,45 +56,26 @@
 #endif
 
 #include "trocar/tissue/integrator.h"
+#include "trocar/tissue/internal.h"
 
 namespace trocar {
 namespace {
 
-/// Same thresholds as forces.cpp: below them a spring or a triangle has no direction.
-constexpr Real kTinyLength2 = 1e-30;
-constexpr Real kTinyNormal2 = 1e-30;
+using namespace tissue_detail;
+
 /// The absolute stopping floor, per unit of cg_tolerance: CG also stops when the block-Jacobi
 /// estimate of the remaining velocity error, max_i |(A_ii)⁻¹ r_i|, is below
 /// kVelocityFloorPerTolerance · cg_tolerance (1e-5 m/s at the default 1e-4).
 constexpr Real kVelocityFloorPerTolerance = 0.1;  // m/s
 
-bool volume_on(const MassSpringSettings& s, const ForceTerms& t) {
-  return t.volume && s.closed && s.k_volume > 0 && s.rest_volume > 0 && !s.triangles.empty();
-}
-bool area_on(const MassSpringSettings& s, const ForceTerms& t) {
-  return t.area && s.k_area > 0 && s.mean_rest_area > 0 && s.rest_areas.size() == s.triangles.size();
-}
-
-/// Scalar 3-vector for the hot loops (see forces.cpp: Eigen's packets stall store forwarding).
-struct P3 {
-  Real x, y, z;
-};
-inline P3 load(const Vec3& v) { return {v[0], v[1], v[2]}; }
-inline P3 load(const Real* v) { return {v[0], v[1], v[2]}; }
-inline P3 operator-(const P3& a, const P3& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-inline P3 operator+(const P3& a, const P3& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-inline P3 operator*(Real s, const P3& a) { return {s * a.x, s * a.y, s * a.z}; }
-inline Real dot(const P3& a, const P3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-inline P3 cross(const P3& a, const P3& b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
-inline void add_to(Vec3& f, const P3& a) {
-  f[0] += a.x;
-  f[1] += a.y;
-  f[2] += a.z;
-}
-inline void subtract_from(Vec3& f, const P3& a) {
-  f[0] -= a.x;
-  f[1] -= a.y;
-  f[2] -= a.z;
+/// A symmetric 3×3 block (xx, yy, zz, xy, xz, yz) += scale · a aᵀ.
+inline void add_outer(Real* m, Real scale, const P3& a) {
+  m[0] += scale * a.x * a.x;
+  m[1] += scale * a.y * a.y;
+  m[2] += scale * a.z * a.z;
+  m[3] += scale * a.x * a.y;
+  m[4] += scale * a.x * a.z;
+  m[5] += scale * a.y * a.z;
 }
 /// inv[k] = len2[k] > kTinyLength2 ? 1/√len2[k] : 0 for k < m; bit for bit the scalar
 /// expression (IEEE square root and division are correctly rounded in every lane).
@@ -110,11 +91,6 @@ inline void safe_inverse_sqrts(const Real* len2, Real* inv, std::size_t m) {
   }
 #endif
   for (; k < m; ++k) inv[k] = len2[k] > kTinyLength2 ? 1.0 / std::sqrt(len2[k]) : 0.0;
-}
-inline void store(Real* out, const P3& a) {
-  out[0] = a.x;
-  out[1] = a.y;
-  out[2] = a.z;
 }
 
 }  // namespace
@@ -150,7 +126,6 @@ void MassSpringIntegrator::linearise(const MassSpringState& state, const TissueL
   // is −h (D_s + h K_s) = −(a u uᵀ + b I) with a = h (λ + h k (1 − c)), b = h² k c.
   if (terms_.springs) {
     const Spring* springs = s.springs.data();
-    const std::uint32_t* order = spring_order_.data();
     CachedSpring* cache = spring_cache_.data();
     const std::size_t ns = s.springs.size();
     // In chunks: the lengths first, then every 1/|d| of the chunk in one SIMD loop (so the
@@ -162,13 +137,13 @@ void MassSpringIntegrator::linearise(const MassSpringState& state, const TissueL
       if (slot == 0) {
         const std::size_t m = std::min(kChunk, ns - e);
         for (std::size_t q = 0; q < m; ++q) {
-          const Spring& sq = springs[order[e + q]];
+          const Spring& sq = springs[e + q];
           const P3 dq = load(x[sq.j]) - load(x[sq.i]);
           chunk_len2[q] = dot(dq, dq);
         }
         safe_inverse_sqrts(chunk_len2, chunk_inv, m);
       }
-      const Spring& sp = springs[order[e]];
+      const Spring& sp = springs[e];
       const P3 d = load(x[sp.j]) - load(x[sp.i]);
       const P3 dvel = load(v[sp.j]) - load(v[sp.i]);
       const Real len2 = chunk_len2[slot];
@@ -203,8 +178,8 @@ void MassSpringIntegrator::linearise(const MassSpringState& state, const TissueL
 
   // Triangles, one pass: area force, h K_A v₀ and the cached g_c = h √κ ∂A/∂x_c (forces.cpp's
   // formulas), and ∇V_i = Σ_{t∋i} n_t/6 with 6V = Σ (a − o)·n_t.
-  const bool area = area_on(s, terms_);
-  const bool volume = volume_on(s, terms_);
+  const bool area = area_term_on(s, terms_);
+  const bool volume = volume_term_on(s, terms_);
   if (area || volume) {
     const Triangle* tris = s.triangles.data();
     const Real* rest = s.rest_areas.data();
@@ -245,13 +220,7 @@ void MassSpringIntegrator::linearise(const MassSpringState& state, const TissueL
       for (int k = 0; k < 3; ++k) {
         store(ct.g[k], g[k]);
         ct.v[k] = tri[k];
-        Sym3& dg = diag[tri[k]];
-        dg.m[0] += g[k].x * g[k].x;
-        dg.m[1] += g[k].y * g[k].y;
-        dg.m[2] += g[k].z * g[k].z;
-        dg.m[3] += g[k].x * g[k].y;
-        dg.m[4] += g[k].x * g[k].z;
-        dg.m[5] += g[k].y * g[k].z;
+        add_outer(diag[tri[k]].m, 1.0, g[k]);
       }
     }
     if (volume) {
@@ -264,13 +233,7 @@ void MassSpringIntegrator::linearise(const MassSpringState& state, const TissueL
       for (std::size_t i = 0; i < n; ++i) {
         const P3 g = load(gv[i]);
         add_to(f[i], coef * g);
-        Sym3& dg = diag[i];
-        dg.m[0] += c2 * g.x * g.x;
-        dg.m[1] += c2 * g.y * g.y;
-        dg.m[2] += c2 * g.z * g.z;
-        dg.m[3] += c2 * g.x * g.y;
-        dg.m[4] += c2 * g.x * g.z;
-        dg.m[5] += c2 * g.y * g.z;
+        add_outer(diag[i].m, c2, g);
       }
     }
   }
@@ -284,14 +247,7 @@ void MassSpringIntegrator::linearise(const MassSpringState& state, const TissueL
     const Real w = h * c.damping + h * h * c.stiffness;
     for (int k = 0; k < 3; ++k) {
       add_to(f[c.vertices[k]], (g * c.weights[k]) * nn);
-      const Real ww = w * c.weights[k] * c.weights[k];
-      Sym3& dg = diag[c.vertices[k]];
-      dg.m[0] += ww * nn.x * nn.x;
-      dg.m[1] += ww * nn.y * nn.y;
-      dg.m[2] += ww * nn.z * nn.z;
-      dg.m[3] += ww * nn.x * nn.y;
-      dg.m[4] += ww * nn.x * nn.z;
-      dg.m[5] += ww * nn.y * nn.z;
+      add_outer(diag[c.vertices[k]].m, w * c.weights[k] * c.weights[k], nn);
     }
   }
 }
@@ -323,7 +279,7 @@ Real MassSpringIntegrator::apply_system(const TissueLoads& loads, Real h, Real v
     pap_springs = acc0 + acc1;
   }
   // Area (Gauss–Newton, rank one per triangle): (A p)_c += (Σ g·p) g_c.
-  if (area_on(settings_, terms_)) {
+  if (area_term_on(settings_, terms_)) {
     const CachedTriangle* cache = triangle_cache_.data();
     const std::size_t nt = triangle_cache_.size();
     for (std::size_t t = 0; t < nt; ++t) {
@@ -347,7 +303,7 @@ Real MassSpringIntegrator::apply_system(const TissueLoads& loads, Real h, Real v
   }
   // Volume: h² κ_V (∇V·p) ∇V is added in the vertex pass; its share of pᵀ A p is h² κ_V (∇V·p)².
   const Real pap_volume =
-      volume_on(settings_, terms_) ? h * h * settings_.k_volume / settings_.rest_volume * volume_slope * volume_slope : 0.0;
+      volume_term_on(settings_, terms_) ? h * h * settings_.k_volume / settings_.rest_volume * volume_slope * volume_slope : 0.0;
   return pap_springs + pap_triangles + pap_contacts + pap_volume;
 }
 
@@ -404,7 +360,7 @@ StepStats MassSpringIntegrator::step_implicit(MassSpringState& state, const Tiss
   Vec3* out = product_.data();
   Sym3* pre = preconditioner_.data();
   const Vec3* gv = volume_gradient_.data();
-  const bool volume = volume_on(settings_, terms_);
+  const bool volume = volume_term_on(settings_, terms_);
   const Real c_volume = volume ? h * h * settings_.k_volume / settings_.rest_volume : 0.0;
   const Vec3* f = forces_.data();
 
