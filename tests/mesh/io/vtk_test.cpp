@@ -189,6 +189,13 @@ TEST(VtkReaderErrors, Header) {
   EXPECT_TRUE(vtk_error("# vtk DataFile Version 3.0\nt\nASCII\nDATASET POLYDATA\nPOINTS 1 float\n1 2 3\n", FileLocation::none(),
                         "no POLYGONS or TRIANGLE_STRIPS"));
   EXPECT_TRUE(vtk_error("# vtk DataFile Version 3.0\nt\nASCII\nDATASET POLYDATA\nPOLYGONS 0 0\n", line(5), "before POINTS"));
+  // Cell sections present but no triangle in them (a fuzz finding: the 5.1 layout with 0 cells).
+  EXPECT_TRUE(vtk_error("# vtk DataFile Version 5.1\nt\nASCII\nDATASET POLYDATA\nPOINTS 3 float\n0 0 0 1 0 0 0 1 0\n"
+                        "LINES 1 3\n2 0 1\nPOLYGONS 0 0\n",
+                        FileLocation::none(), "no triangles"));
+  EXPECT_TRUE(vtk_error("# vtk DataFile Version 3.0\nt\nASCII\nDATASET POLYDATA\nPOINTS 3 float\n0 0 0 1 0 0 0 1 0\n"
+                        "POLYGONS 1 3\n2 0 1\n",
+                        FileLocation::none(), "no triangles"));
   EXPECT_TRUE(vtk_error("# vtk DataFile Version 3.0\nt\nASCII\n", FileLocation::none(), "no DATASET"));
 }
 

@@ -5,7 +5,8 @@
 // Cells come in the classic layout ("POLYGONS n size" then n runs of "count i0 i1 ...") or the
 // 5.1 layout (OFFSETS and CONNECTIVITY arrays), told apart by the keyword after the cell line.
 // VERTICES and LINES are skipped, FIELD arrays and METADATA blocks are skipped, and reading
-// stops at POINT_DATA / CELL_DATA (attributes carry no geometry). Errors name the line for
+// stops at POINT_DATA / CELL_DATA (attributes carry no geometry). A file whose cells make no
+// triangle is an error ("no triangles"), as in the other readers. Errors name the line for
 // ASCII files and header lines, the byte offset inside BINARY files.
 #include <algorithm>
 #include <bit>
@@ -94,6 +95,9 @@ class VtkReader {
     if (!have_dataset) throw FileError(name_, FileLocation::none(), "no DATASET POLYDATA section");
     if (!have_points) throw FileError(name_, FileLocation::none(), "no POINTS section");
     if (!have_cells) throw FileError(name_, FileLocation::none(), "no POLYGONS or TRIANGLE_STRIPS section");
+    // Sections may be empty ("POLYGONS 0 0") or hold only cells of fewer than 3 points.
+    if (mesh_.triangles.empty())
+      throw FileError(name_, FileLocation::none(), "no triangles (no cell with 3 or more points)");
     return std::move(mesh_);
   }
 
