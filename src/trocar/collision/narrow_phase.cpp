@@ -5,55 +5,54 @@
 #include <cstdint>
 #include <limits>
 
+#include "trocar/collision/narrow_phase_detail.h"
 #include "trocar/geometry/triangle_triangle.h"
 
 namespace trocar {
+namespace narrow_detail {
 namespace {
+
+// A triangle's plane: the unnormalised normal n = (q1 − q0) × (q2 − q0) (no square root), |n|²,
+// and whether the triangle is well shaped (not a sliver: |n|² > 1e-6·(longest edge)⁴).
+struct TrianglePlane {
+  Vec3 n = Vec3::Zero();
+  Real n2 = 0;
+  bool well_shaped = false;
+};
+
+// One candidate after the plane tests, in coordinates relative to a0 (so that the rounding of
+// what follows is that of the pair's size, not of its distance from the origin).
+struct PlaneStage {
+  Vec3 ra[3];     // A's corners − a0
+  Vec3 rb[3];     // B's corners − a0
+  TrianglePlane a;
+  TrianglePlane b;
+  Real d_a[3];    // A's corners to B's plane (× |nB|)
+  Real d_b[3];    // B's corners to A's plane (× |nA|)
+  Real size = 0;  // the pair's size L: largest side of the six corners' box
+};
 
 // Cheap, conservative rejections before the exact test (intersect_triangles). Each may only
 // reject pairs that intersect_triangles rejects too, so they change nothing but the time; the
 // margins below are orders of magnitude wider than the test's tolerance (kTriTriTolerance = 1e-12
 // of the pair's size L) and than its rounding errors.
 
-// A triangle's plane: the unnormalised normal n = (q1 − q0) × (q2 − q0) (no square root), |n|²,
-// and whether the triangle is well shaped (not a sliver: |n|² > 1e-6·(longest edge)⁴). Computed
-// once per run of candidates that share the triangle (the broad phases emit a triangle's
-// partners one after another), from differences of the triangle's own corners, so its rounding
-// follows the triangle's size, not its distance from the origin.
-struct TrianglePlane {
-  std::uint64_t key = ~std::uint64_t{0};  // (object << 32) | triangle; none yet
-  Vec3 q0;
-  Vec3 n;
-  Real n2 = 0;
-  bool well_shaped = false;
-};
-
-const TrianglePlane& plane_of(TrianglePlane& cache, std::uint32_t object, std::uint32_t triangle, const Vec3& q0,
-                              const Vec3& q1, const Vec3& q2) {
-  const std::uint64_t key = (std::uint64_t{object} << 32) | triangle;
-  if (cache.key == key) return cache;
-  cache.key = key;
+// The plane of triangle q0q1q2 from differences of its own corners, so that its rounding follows
+// the triangle's size, not its distance from the origin.
+TrianglePlane plane_of(const Vec3& q0, const Vec3& q1, const Vec3& q2) {
   const Vec3 e1 = q1 - q0;
   const Vec3 e2 = q2 - q0;
-  cache.q0 = q0;
-  cache.n = e1.cross(e2);
-  cache.n2 = cache.n.squaredNorm();
+  TrianglePlane plane;
+  plane.n = e1.cross(e2);
+  plane.n2 = plane.n.squaredNorm();
   const Real longest2 = std::max({e1.squaredNorm(), e2.squaredNorm(), (q2 - q1).squaredNorm()});
-  cache.well_shaped = cache.n2 > 1e-6 * longest2 * longest2;
-  return cache;
+  plane.well_shaped = plane.n2 > 1e-6 * longest2 * longest2;
+  return plane;
 }
 
-// Signed distances (× |n|) of p0..p2 to a triangle's plane. Each p − q0 is a difference of two
-// nearby points, as accurate as the pair's own coordinates allow.
-void plane_distances(const TrianglePlane& plane, const Vec3& p0, const Vec3& p1, const Vec3& p2, Real (&d)[3]) {
-  d[0] = plane.n.dot(p0 - plane.q0);
-  d[1] = plane.n.dot(p1 - plane.q0);
-  d[2] = plane.n.dot(p2 - plane.q0);
-}
-
-// Plane rejection: all of p0..p2 strictly on one side of the plane, by more than 1e-9·L
-// (compared squared, d_i² > (1e-9·L)²·|n|²). Skipped (false) for slivers, whose plane is
-// ill-conditioned.
+// Plane rejection: all of the three distances d (× |n|) strictly on one side of the plane, by
+// more than 1e-9·L (compared squared, d_i² > (1e-9·L)²·|n|²). Skipped (false) for slivers, whose
+// plane is ill-conditioned.
 bool separated_by_plane(const TrianglePlane& plane, const Real (&d)[3], Real size) {
   if (!plane.well_shaped) return false;
   const bool all_above = d[0] > 0 && d[1] > 0 && d[2] > 0;
@@ -101,73 +100,102 @@ void slab_interval(const Vec3 (&p)[3], const Real (&d)[3], Real tau, const Vec3&
 // intersection line direction nA × nB to two intervals; the pair is rejected when they are apart
 // by more than 1e-7·L. Every point the exact test puts on a trace lies in those parts, and its
 // ordering direction differs from the line by far less than that margin allows.
-bool separated_on_line(const Vec3 (&a)[3], const Vec3 (&b)[3], const TrianglePlane& plane_a, const Real (&d_a)[3],
-                       const TrianglePlane& plane_b, const Real (&d_b)[3], Real size) {
-  // d_a: A's corners to B's plane (× |nB|); d_b: B's corners to A's plane (× |nA|).
-  if (!plane_a.well_shaped || !plane_b.well_shaped) return false;
-  const Vec3 dir = plane_a.n.cross(plane_b.n);  // nA × nB
+bool separated_on_line(const PlaneStage& s) {
+  if (!s.a.well_shaped || !s.b.well_shaped) return false;
+  const Vec3 dir = s.a.n.cross(s.b.n);  // nA × nB
   const Real dir2 = dir.squaredNorm();
-  if (!(dir2 >= 1e-4 * plane_a.n2 * plane_b.n2)) return false;  // sin²θ < 1e-4
+  if (!(dir2 >= 1e-4 * s.a.n2 * s.b.n2)) return false;  // sin²θ < 1e-4
   constexpr Real kInf = std::numeric_limits<Real>::infinity();
   Real a_lo = kInf, a_hi = -kInf, b_lo = kInf, b_hi = -kInf;
-  slab_interval(a, d_a, 1e-9 * size * std::sqrt(plane_b.n2), dir, a_lo, a_hi);
-  slab_interval(b, d_b, 1e-9 * size * std::sqrt(plane_a.n2), dir, b_lo, b_hi);
+  slab_interval(s.ra, s.d_a, 1e-9 * s.size * std::sqrt(s.b.n2), dir, a_lo, a_hi);
+  slab_interval(s.rb, s.d_b, 1e-9 * s.size * std::sqrt(s.a.n2), dir, b_lo, b_hi);
   if (!(a_lo <= a_hi) || !(b_lo <= b_hi)) return false;  // (not expected: both straddle)
   const Real gap = std::max(a_lo, b_lo) - std::min(a_hi, b_hi);  // in units of |dir|
-  return gap > 0 && gap * gap > 1e-14 * size * size * dir2;
+  return gap > 0 && gap * gap > 1e-14 * s.size * s.size * dir2;
 }
 
-Real pair_size(const Vec3& a0, const Vec3& a1, const Vec3& a2, const Vec3& b0, const Vec3& b1, const Vec3& b2) {
-  const Vec3 lo = a0.cwiseMin(a1).cwiseMin(a2).cwiseMin(b0).cwiseMin(b1).cwiseMin(b2);
-  const Vec3 hi = a0.cwiseMax(a1).cwiseMax(a2).cwiseMax(b0).cwiseMax(b1).cwiseMax(b2);
-  return (hi - lo).maxCoeff();
-}
+// The plane stage of one candidate (the portable path). A's plane is kept while consecutive
+// candidates share A (the broad phases emit a triangle's partners one after another).
+struct ScalarStage {
+  std::uint64_t a_key = ~std::uint64_t{0};  // (object << 32) | triangle of the cached A plane
+  TrianglePlane a_plane;
 
-}  // namespace
-
-void narrow_phase(std::span<const CollisionObject> objects, std::span<const CandidatePair> pairs,
-                  std::vector<Contact>& out) {
-  out.clear();
-  TrianglePlane cache_a;
-  TrianglePlane cache_b;
-  for (const CandidatePair& pair : pairs) {
-    const CollisionObject& oa = objects[pair.object_a];
-    const CollisionObject& ob = objects[pair.object_b];
+  // False when the pair is rejected (or not finite); otherwise fills s.
+  bool run(const CollisionObject& oa, const CollisionObject& ob, const CandidatePair& pair, PlaneStage& s) {
     const Triangle& ta = oa.triangles[pair.triangle_a];
     const Triangle& tb = ob.triangles[pair.triangle_b];
     const Vec3& a0 = oa.positions[ta[0]];
-    const Vec3& a1 = oa.positions[ta[1]];
-    const Vec3& a2 = oa.positions[ta[2]];
-    const Vec3& b0 = ob.positions[tb[0]];
-    const Vec3& b1 = ob.positions[tb[1]];
-    const Vec3& b2 = ob.positions[tb[2]];
-    const Real size = pair_size(a0, a1, a2, b0, b1, b2);
-    if (!(size < std::numeric_limits<Real>::infinity())) continue;  // NaN or infinite input
-    const TrianglePlane& plane_b = plane_of(cache_b, pair.object_b, pair.triangle_b, b0, b1, b2);
-    Real d_a[3];  // A's corners to B's plane
-    plane_distances(plane_b, a0, a1, a2, d_a);
-    if (separated_by_plane(plane_b, d_a, size)) continue;
-    const TrianglePlane& plane_a = plane_of(cache_a, pair.object_a, pair.triangle_a, a0, a1, a2);
-    Real d_b[3];  // B's corners to A's plane
-    plane_distances(plane_a, b0, b1, b2, d_b);
-    if (separated_by_plane(plane_a, d_b, size)) continue;
-    // Relative to a0, so that the projections' rounding follows the pair's size, not its
-    // position.
-    const Vec3 ra[3] = {Vec3::Zero(), a1 - a0, a2 - a0};
-    const Vec3 rb[3] = {b0 - a0, b1 - a0, b2 - a0};
-    if (separated_on_line(ra, rb, plane_a, d_a, plane_b, d_b, size)) continue;
-    const TriTriResult r = intersect_triangles(a0, a1, a2, b0, b1, b2);
-    if (!r.intersects) continue;
-    Contact c;
-    c.object_a = pair.object_a;
-    c.object_b = pair.object_b;
-    c.triangle_a = pair.triangle_a;
-    c.triangle_b = pair.triangle_b;
-    c.kind = contact_kind(oa.role, ob.role);
-    c.coplanar = r.coplanar;
-    c.segment_p = r.p;
-    c.segment_q = r.q;
-    out.push_back(c);
+    s.ra[0] = Vec3::Zero();
+    s.ra[1] = oa.positions[ta[1]] - a0;
+    s.ra[2] = oa.positions[ta[2]] - a0;
+    for (int i = 0; i < 3; ++i) s.rb[i] = ob.positions[tb[i]] - a0;
+    Vec3 lo = s.ra[0].cwiseMin(s.ra[1]).cwiseMin(s.ra[2]);
+    Vec3 hi = s.ra[0].cwiseMax(s.ra[1]).cwiseMax(s.ra[2]);
+    for (const Vec3& x : s.rb) {
+      lo = lo.cwiseMin(x);
+      hi = hi.cwiseMax(x);
+    }
+    s.size = (hi - lo).maxCoeff();
+    if (!(s.size < std::numeric_limits<Real>::infinity())) return false;  // NaN or infinite input
+    const std::uint64_t key = (std::uint64_t{pair.object_a} << 32) | pair.triangle_a;
+    if (key != a_key) {
+      a_key = key;
+      a_plane = plane_of(s.ra[0], s.ra[1], s.ra[2]);
+    }
+    s.a = a_plane;
+    for (int i = 0; i < 3; ++i) s.d_b[i] = s.a.n.dot(s.rb[i]);
+    if (separated_by_plane(s.a, s.d_b, s.size)) return false;
+    s.b = plane_of(s.rb[0], s.rb[1], s.rb[2]);
+    for (int i = 0; i < 3; ++i) s.d_a[i] = s.b.n.dot(s.ra[i] - s.rb[0]);
+    return !separated_by_plane(s.b, s.d_a, s.size);
+  }
+};
+
+}  // namespace
+
+void exact_candidate(const CollisionObject& oa, const CollisionObject& ob, const CandidatePair& pair,
+                     std::vector<Contact>& out) {
+  const Triangle& ta = oa.triangles[pair.triangle_a];
+  const Triangle& tb = ob.triangles[pair.triangle_b];
+  const TriTriResult r = intersect_triangles(oa.positions[ta[0]], oa.positions[ta[1]], oa.positions[ta[2]],
+                                             ob.positions[tb[0]], ob.positions[tb[1]], ob.positions[tb[2]]);
+  if (!r.intersects) return;
+  Contact c;
+  c.object_a = pair.object_a;
+  c.object_b = pair.object_b;
+  c.triangle_a = pair.triangle_a;
+  c.triangle_b = pair.triangle_b;
+  c.kind = contact_kind(oa.role, ob.role);
+  c.coplanar = r.coplanar;
+  c.segment_p = r.p;
+  c.segment_q = r.q;
+  out.push_back(c);
+}
+
+}  // namespace narrow_detail
+
+void narrow_phase(std::span<const CollisionObject> objects, std::span<const CandidatePair> pairs,
+                  std::vector<Contact>& out, bool allow_simd) {
+  using namespace narrow_detail;
+  out.clear();
+  const bool simd = allow_simd && avx2_fma();
+  ScalarStage scalar;
+  PlaneStage s;
+  for (std::size_t k = 0; k < pairs.size();) {
+    const CandidatePair& pair = pairs[k];
+    const CollisionObject& oa = objects[pair.object_a];
+    const CollisionObject& ob = objects[pair.object_b];
+    // Four candidates of one object pair at a time on the AVX2 path; the rest one by one.
+    if (simd && k + 4 <= pairs.size() && pairs[k + 3].object_a == pair.object_a &&
+        pairs[k + 3].object_b == pair.object_b && pairs[k + 1].object_a == pair.object_a &&
+        pairs[k + 1].object_b == pair.object_b && pairs[k + 2].object_a == pair.object_a &&
+        pairs[k + 2].object_b == pair.object_b && fits_gathers(oa) && fits_gathers(ob)) {
+      reject4_avx2(oa, ob, &pairs[k], out);
+      k += 4;
+      continue;
+    }
+    if (scalar.run(oa, ob, pair, s) && !separated_on_line(s)) exact_candidate(oa, ob, pair, out);
+    ++k;
   }
   // std::sort does not allocate (introsort in place).
   std::sort(out.begin(), out.end(), contact_less);

@@ -12,8 +12,10 @@ namespace trocar {
 /// (intersect_triangles, touching counts), with its kind and intersection segment, sorted by
 /// (object_a, object_b, triangle_a, triangle_b). Triangle a's corners are the first three
 /// arguments of the test, so the segment does not depend on the broad phase. Allocates only
-/// when `out` needs more capacity than it has.
+/// when `out` needs more capacity than it has. `allow_simd` = false forces the portable
+/// rejection tests (the AVX2 ones run only where the CPU has AVX2 and FMA and the environment
+/// has no TROCAR_SIMD=off); the contacts are the same either way.
 void narrow_phase(std::span<const CollisionObject> objects, std::span<const CandidatePair> pairs,
-                  std::vector<Contact>& out);
+                  std::vector<Contact>& out, bool allow_simd = true);
 
 }  // namespace trocar

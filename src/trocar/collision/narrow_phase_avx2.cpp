@@ -1,0 +1,233 @@
+// The narrow phase's plane stage for four candidates at once (AVX2 + FMA, chosen at run time).
+// Lane k holds candidate k: its corners are gathered from the positions, and the same tests as
+// the portable path (narrow_phase.cpp) run on all four — A's plane against B's corners, B's
+// plane against A's corners, each with the conservative 1e-9·L margin. Only the candidates
+// neither plane rejects go on, one by one, to the interval test and the exact test. FMA rounds
+// differently from the portable path, which the margins (far wider than either's rounding)
+// absorb: both paths reject only pairs the exact test rejects, so the contacts are the same.
+#include <cstdlib>
+#include <limits>
+#include <string_view>
+
+#include "trocar/collision/narrow_phase_detail.h"
+
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#define TROCAR_NARROW_AVX2 1
+#endif
+
+namespace trocar::narrow_detail {
+
+#if defined(TROCAR_NARROW_AVX2)
+namespace {
+
+#define TROCAR_AVX2 __attribute__((target("avx2,fma"), always_inline)) inline
+
+struct V3 {
+  __m256d x, y, z;
+};
+
+TROCAR_AVX2 V3 sub(const V3& a, const V3& b) {
+  return {_mm256_sub_pd(a.x, b.x), _mm256_sub_pd(a.y, b.y), _mm256_sub_pd(a.z, b.z)};
+}
+TROCAR_AVX2 __m256d dot(const V3& a, const V3& b) {
+  return _mm256_fmadd_pd(a.x, b.x, _mm256_fmadd_pd(a.y, b.y, _mm256_mul_pd(a.z, b.z)));
+}
+TROCAR_AVX2 V3 cross(const V3& a, const V3& b) {
+  return {_mm256_fmsub_pd(a.y, b.z, _mm256_mul_pd(a.z, b.y)), _mm256_fmsub_pd(a.z, b.x, _mm256_mul_pd(a.x, b.z)),
+          _mm256_fmsub_pd(a.x, b.y, _mm256_mul_pd(a.y, b.x))};
+}
+// The masked gathers with an explicit source and a full mask: GCC 12's plain
+// _mm256_i32gather_pd reads an uninitialised source (a -Wuninitialized error).
+TROCAR_AVX2 __m256d gather1(const double* p, __m128i ids) {
+  const __m256d ones = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
+  return _mm256_mask_i32gather_pd(_mm256_setzero_pd(), p, ids, ones, 8);
+}
+// Corner `ids` (offsets in doubles, 3 × vertex id) of four triangles.
+TROCAR_AVX2 V3 gather(const double* p, __m128i ids) { return {gather1(p, ids), gather1(p + 1, ids), gather1(p + 2, ids)}; }
+TROCAR_AVX2 __m256d gt(__m256d a, __m256d b) { return _mm256_cmp_pd(a, b, _CMP_GT_OQ); }
+TROCAR_AVX2 __m256d both(__m256d a, __m256d b) { return _mm256_and_pd(a, b); }
+
+// The plane of a triangle with edges e1, e2 (and e2 − e1): normal, |n|², well-shaped mask.
+struct Plane4 {
+  V3 n;
+  __m256d n2;
+  __m256d well;
+};
+TROCAR_AVX2 Plane4 plane4(const V3& e1, const V3& e2) {
+  Plane4 p;
+  p.n = cross(e1, e2);
+  p.n2 = dot(p.n, p.n);
+  const V3 e3 = sub(e2, e1);
+  const __m256d longest2 = _mm256_max_pd(_mm256_max_pd(dot(e1, e1), dot(e2, e2)), dot(e3, e3));
+  p.well = gt(p.n2, _mm256_mul_pd(_mm256_set1_pd(1e-6), _mm256_mul_pd(longest2, longest2)));
+  return p;
+}
+
+// Mask of the lanes whose three distances d (× |n|) lie strictly on one side of a well-shaped
+// plane by more than 1e-9·L: d_i² > 1e-18·L²·|n|² (as separated_by_plane in narrow_phase.cpp).
+TROCAR_AVX2 __m256d separated(const Plane4& p, __m256d d0, __m256d d1, __m256d d2, __m256d size2) {
+  const __m256d zero = _mm256_setzero_pd();
+  const __m256d above = both(both(gt(d0, zero), gt(d1, zero)), gt(d2, zero));
+  const __m256d below = both(both(gt(zero, d0), gt(zero, d1)), gt(zero, d2));
+  const __m256d threshold2 = _mm256_mul_pd(_mm256_mul_pd(_mm256_set1_pd(1e-18), size2), p.n2);
+  const __m256d far = both(both(gt(_mm256_mul_pd(d0, d0), threshold2), gt(_mm256_mul_pd(d1, d1), threshold2)),
+                           gt(_mm256_mul_pd(d2, d2), threshold2));
+  return both(both(p.well, _mm256_or_pd(above, below)), far);
+}
+
+TROCAR_AVX2 __m256d min3(const V3& a, __m256d lo_x, __m256d& lo_y, __m256d& lo_z) {
+  lo_y = _mm256_min_pd(lo_y, a.y);
+  lo_z = _mm256_min_pd(lo_z, a.z);
+  return _mm256_min_pd(lo_x, a.x);
+}
+
+// The three corner offsets (3 × vertex id) of triangles `t` (four triangle indices).
+TROCAR_AVX2 void corner_ids(const Triangle* triangles, __m128i t, __m128i (&ids)[3]) {
+  const int* base = reinterpret_cast<const int*>(triangles);
+  const __m128i t3 = _mm_add_epi32(_mm_add_epi32(t, t), t);
+  for (int k = 0; k < 3; ++k) {
+    const __m128i v = _mm_mask_i32gather_epi32(_mm_setzero_si128(), base + k, t3, _mm_set1_epi32(-1), 4);
+    ids[k] = _mm_add_epi32(_mm_add_epi32(v, v), v);
+  }
+}
+
+// The projections on the line of the parts of a triangle within the slab |d| ≤ tau of the other
+// plane, edge by edge (as slab_interval in narrow_phase.cpp): [lo, hi] per lane.
+struct Interval4 {
+  __m256d lo;  // +inf when empty
+  __m256d hi;  // −inf when empty
+
+  TROCAR_AVX2 void clear() {
+    lo = _mm256_set1_pd(std::numeric_limits<double>::infinity());
+    hi = _mm256_set1_pd(-std::numeric_limits<double>::infinity());
+  }
+
+  // Edge from corner i (projection pi, distance di) to corner j.
+  TROCAR_AVX2 void edge(__m256d pi, __m256d pj, __m256d di, __m256d dj, __m256d tau) {
+    const __m256d neg_tau = _mm256_sub_pd(_mm256_setzero_pd(), tau);
+    const __m256d outside = _mm256_or_pd(both(gt(di, tau), gt(dj, tau)), both(gt(neg_tau, di), gt(neg_tau, dj)));
+    const __m256d dd = _mm256_sub_pd(dj, di);
+    const __m256d abs_dd = _mm256_andnot_pd(_mm256_set1_pd(-0.0), dd);
+    const __m256d steep = gt(abs_dd, tau);
+    // d(λ) = di + λ·dd ∈ [−tau, tau] for λ between a and b (only where the edge is steep).
+    const __m256d a = _mm256_div_pd(_mm256_sub_pd(neg_tau, di), dd);
+    const __m256d b = _mm256_div_pd(_mm256_sub_pd(tau, di), dd);
+    const __m256d zero = _mm256_setzero_pd();
+    const __m256d one = _mm256_set1_pd(1.0);
+    __m256d l0 = _mm256_blendv_pd(zero, _mm256_max_pd(zero, _mm256_min_pd(a, b)), steep);
+    __m256d l1 = _mm256_blendv_pd(one, _mm256_min_pd(one, _mm256_max_pd(a, b)), steep);
+    // l0 > l1 only by rounding (the edge just reaches the slab): keep the middle, in [0, 1].
+    const __m256d crossed = gt(l0, l1);
+    const __m256d mid = _mm256_min_pd(one, _mm256_max_pd(zero, _mm256_mul_pd(_mm256_set1_pd(0.5), _mm256_add_pd(l0, l1))));
+    l0 = _mm256_blendv_pd(l0, mid, crossed);
+    l1 = _mm256_blendv_pd(l1, mid, crossed);
+    const __m256d span = _mm256_sub_pd(pj, pi);
+    const __m256d x0 = _mm256_fmadd_pd(l0, span, pi);
+    const __m256d x1 = _mm256_fmadd_pd(l1, span, pi);
+    lo = _mm256_blendv_pd(_mm256_min_pd(lo, _mm256_min_pd(x0, x1)), lo, outside);
+    hi = _mm256_blendv_pd(_mm256_max_pd(hi, _mm256_max_pd(x0, x1)), hi, outside);
+  }
+};
+
+}  // namespace
+
+__attribute__((target("avx2,fma"))) void reject4_avx2(const CollisionObject& oa, const CollisionObject& ob,
+                                                           const CandidatePair* pairs, std::vector<Contact>& out) {
+  __m128i ia[3];
+  __m128i ib[3];
+  corner_ids(oa.triangles.data(), _mm_setr_epi32(static_cast<int>(pairs[0].triangle_a), static_cast<int>(pairs[1].triangle_a),
+                                                 static_cast<int>(pairs[2].triangle_a), static_cast<int>(pairs[3].triangle_a)),
+             ia);
+  corner_ids(ob.triangles.data(), _mm_setr_epi32(static_cast<int>(pairs[0].triangle_b), static_cast<int>(pairs[1].triangle_b),
+                                                 static_cast<int>(pairs[2].triangle_b), static_cast<int>(pairs[3].triangle_b)),
+             ib);
+  const double* pa = oa.positions.data()->data();
+  const double* pb = ob.positions.data()->data();
+  const V3 a0 = gather(pa, ia[0]);
+  const V3 ra1 = sub(gather(pa, ia[1]), a0);
+  const V3 ra2 = sub(gather(pa, ia[2]), a0);
+  const V3 rb0 = sub(gather(pb, ib[0]), a0);
+  const V3 rb1 = sub(gather(pb, ib[1]), a0);
+  const V3 rb2 = sub(gather(pb, ib[2]), a0);
+
+  // The pair's size L (a0 is the origin, so 0 is one of the six corners).
+  const __m256d zero = _mm256_setzero_pd();
+  __m256d lo_y = zero, lo_z = zero, hi_y = zero, hi_z = zero;
+  __m256d lo_x = zero, hi_x = zero;
+  for (const V3* c : {&ra1, &ra2, &rb0, &rb1, &rb2}) {
+    lo_x = min3(*c, lo_x, lo_y, lo_z);
+    hi_x = _mm256_max_pd(hi_x, c->x);
+    hi_y = _mm256_max_pd(hi_y, c->y);
+    hi_z = _mm256_max_pd(hi_z, c->z);
+  }
+  const __m256d size = _mm256_max_pd(_mm256_max_pd(_mm256_sub_pd(hi_x, lo_x), _mm256_sub_pd(hi_y, lo_y)),
+                                     _mm256_sub_pd(hi_z, lo_z));
+  const __m256d finite = _mm256_cmp_pd(size, _mm256_set1_pd(std::numeric_limits<double>::infinity()), _CMP_LT_OQ);
+  const __m256d size2 = _mm256_mul_pd(size, size);
+
+  const Plane4 plane_a = plane4(ra1, ra2);
+  const __m256d db0 = dot(plane_a.n, rb0);
+  const __m256d db1 = dot(plane_a.n, rb1);
+  const __m256d db2 = dot(plane_a.n, rb2);
+  const __m256d sep_a = separated(plane_a, db0, db1, db2, size2);
+  const Plane4 plane_b = plane4(sub(rb1, rb0), sub(rb2, rb0));
+  const __m256d da0 = _mm256_sub_pd(zero, dot(plane_b.n, rb0));
+  const __m256d da1 = dot(plane_b.n, sub(ra1, rb0));
+  const __m256d da2 = dot(plane_b.n, sub(ra2, rb0));
+  const __m256d sep_b = separated(plane_b, da0, da1, da2, size2);
+  const __m256d planes_keep = _mm256_andnot_pd(_mm256_or_pd(sep_a, sep_b), finite);
+  if (_mm256_movemask_pd(planes_keep) == 0) return;
+
+  // The interval test on the lanes the planes kept (as separated_on_line in narrow_phase.cpp).
+  const V3 dir = cross(plane_a.n, plane_b.n);
+  const __m256d dir2 = dot(dir, dir);
+  const __m256d line_ok =
+      both(both(plane_a.well, plane_b.well),
+           _mm256_cmp_pd(dir2, _mm256_mul_pd(_mm256_set1_pd(1e-4), _mm256_mul_pd(plane_a.n2, plane_b.n2)), _CMP_GE_OQ));
+  const __m256d eps_size = _mm256_mul_pd(_mm256_set1_pd(1e-9), size);
+  Interval4 ia4;
+  ia4.clear();
+  const __m256d tau_a = _mm256_mul_pd(eps_size, _mm256_sqrt_pd(plane_b.n2));
+  const __m256d pa1 = dot(dir, ra1);
+  const __m256d pa2 = dot(dir, ra2);
+  ia4.edge(zero, pa1, da0, da1, tau_a);
+  ia4.edge(pa1, pa2, da1, da2, tau_a);
+  ia4.edge(pa2, zero, da2, da0, tau_a);
+  Interval4 ib4;
+  ib4.clear();
+  const __m256d tau_b = _mm256_mul_pd(eps_size, _mm256_sqrt_pd(plane_a.n2));
+  const __m256d pb0 = dot(dir, rb0);
+  const __m256d pb1 = dot(dir, rb1);
+  const __m256d pb2 = dot(dir, rb2);
+  ib4.edge(pb0, pb1, db0, db1, tau_b);
+  ib4.edge(pb1, pb2, db1, db2, tau_b);
+  ib4.edge(pb2, pb0, db2, db0, tau_b);
+  const __m256d nonempty = both(_mm256_cmp_pd(ia4.lo, ia4.hi, _CMP_LE_OQ), _mm256_cmp_pd(ib4.lo, ib4.hi, _CMP_LE_OQ));
+  const __m256d gap = _mm256_sub_pd(_mm256_max_pd(ia4.lo, ib4.lo), _mm256_min_pd(ia4.hi, ib4.hi));
+  const __m256d apart = both(gt(gap, zero), gt(_mm256_mul_pd(gap, gap), _mm256_mul_pd(_mm256_mul_pd(_mm256_set1_pd(1e-14), size2), dir2)));
+  const __m256d sep_line = both(both(line_ok, nonempty), apart);
+  const int keep = _mm256_movemask_pd(_mm256_andnot_pd(sep_line, planes_keep));
+  for (int k = 0; k < 4; ++k) {
+    if (keep >> k & 1) exact_candidate(oa, ob, pairs[k], out);
+  }
+}
+
+bool avx2_fma() {
+  // TROCAR_SIMD=off forces the portable path (as in the tissue module).
+  static const bool has = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") &&
+                          !(std::getenv("TROCAR_SIMD") != nullptr && std::string_view(std::getenv("TROCAR_SIMD")) == "off");
+  return has;
+}
+
+#else
+
+void reject4_avx2(const CollisionObject&, const CollisionObject&, const CandidatePair*, std::vector<Contact>&) {
+  std::abort();  // never called: avx2_fma() is false
+}
+
+bool avx2_fma() { return false; }
+
+#endif
+
+}  // namespace trocar::narrow_detail

@@ -1,0 +1,31 @@
+#pragma once
+/// Internal to the narrow phase (narrow_phase.cpp, narrow_phase_avx2.cpp): the exact test of one
+/// candidate, and the AVX2 rejection tests chosen at run time.
+#include <vector>
+
+#include "trocar/collision/broad_phase.h"
+#include "trocar/collision/contact.h"
+
+namespace trocar::narrow_detail {
+
+/// The exact test (intersect_triangles, A's corners first); appends the contact when the
+/// triangles intersect.
+void exact_candidate(const CollisionObject& oa, const CollisionObject& ob, const CandidatePair& pair,
+                     std::vector<Contact>& out);
+
+/// The rejection tests for four candidates of the same object pair at once (AVX2 + FMA), then
+/// exact_candidate() on those they keep. Requires avx2_fma() and counts that fit the 32-bit
+/// gathers (fits_gathers()).
+void reject4_avx2(const CollisionObject& oa, const CollisionObject& ob, const CandidatePair* pairs,
+                  std::vector<Contact>& out);
+
+/// True when the object's vertex and triangle counts fit signed 32-bit gather offsets (3 × id).
+inline bool fits_gathers(const CollisionObject& o) {
+  constexpr std::size_t kLimit = 0x7fffffff / 3;
+  return o.positions.size() < kLimit && o.triangles.size() < kLimit;
+}
+
+/// True when the CPU has AVX2 and FMA and TROCAR_SIMD is not "off" (checked once).
+bool avx2_fma();
+
+}  // namespace trocar::narrow_detail
