@@ -111,16 +111,32 @@ inline std::vector<Contact> expect_all_agree(std::span<const CollisionObject> ob
     reference = contacts_with(BroadPhaseKind::kBruteForce, objects);
     expect_same_contacts(reference, bvh, what + " (bvh vs brute)");
   }
-  // 2: both cascade levels (the default), 1: object level only, 0: no cascade.
-  for (const int levels : {2, 1, 0}) {
+  // 2: both cascade levels (the default), 1: object level only, 0: no cascade; -1: the default
+  // with the portable code instead of the AVX2 kernels (the same candidates, as a set).
+  std::vector<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t, std::uint32_t>> simd_candidates;
+  for (const int levels : {2, -1, 1, 0}) {
     OhcSettings settings;
-    settings.cascade = levels >= 1;
-    settings.cluster_cascade = levels >= 2;
+    settings.cascade = levels >= 1 || levels == -1;
+    settings.cluster_cascade = levels >= 2 || levels == -1;
+    settings.simd = levels != -1;
     CollisionDetector ohc(settings);
     const auto found = ohc.detect(objects);
     expect_same_contacts(reference, {found.begin(), found.end()},
-                         what + (levels == 2 ? " (ohc)" : levels == 1 ? " (ohc, object cascade only)" : " (ohc, no cascade)"));
+                         what + (levels == 2    ? " (ohc)"
+                                 : levels == -1 ? " (ohc, portable)"
+                                 : levels == 1  ? " (ohc, object cascade only)"
+                                                : " (ohc, no cascade)"));
     expect_unique_candidates(ohc.candidates(), objects, what + " (ohc candidates)");
+    if (levels == 2 || levels == -1) {
+      std::vector<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t, std::uint32_t>> keys;
+      for (const CandidatePair& p : ohc.candidates()) keys.emplace_back(p.object_a, p.object_b, p.triangle_a, p.triangle_b);
+      std::sort(keys.begin(), keys.end());
+      if (levels == 2) {
+        simd_candidates = std::move(keys);
+      } else {
+        EXPECT_EQ(simd_candidates, keys) << what << ": the portable OHC finds other candidates";
+      }
+    }
   }
   return reference;
 }

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <limits>
 
+#include "trocar/collision/cpu_features.h"
 #include "trocar/collision/narrow_phase_detail.h"
 #include "trocar/geometry/triangle_triangle.h"
 
@@ -178,7 +179,7 @@ void narrow_phase(std::span<const CollisionObject> objects, std::span<const Cand
                   std::vector<Contact>& out, bool allow_simd) {
   using namespace narrow_detail;
   out.clear();
-  const bool simd = allow_simd && avx2_fma();
+  const bool simd = allow_simd && collision_cpu::avx2_fma();
   ScalarStage scalar;
   PlaneStage s;
   for (std::size_t k = 0; k < pairs.size();) {

@@ -7,7 +7,6 @@
 // absorb: both paths reject only pairs the exact test rejects, so the contacts are the same.
 #include <cstdlib>
 #include <limits>
-#include <string_view>
 
 #include "trocar/collision/narrow_phase_detail.h"
 
@@ -213,20 +212,11 @@ __attribute__((target("avx2,fma"))) void reject4_avx2(const CollisionObject& oa,
   }
 }
 
-bool avx2_fma() {
-  // TROCAR_SIMD=off forces the portable path (as in the tissue module).
-  static const bool has = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") &&
-                          !(std::getenv("TROCAR_SIMD") != nullptr && std::string_view(std::getenv("TROCAR_SIMD")) == "off");
-  return has;
-}
-
 #else
 
 void reject4_avx2(const CollisionObject&, const CollisionObject&, const CandidatePair*, std::vector<Contact>&) {
-  std::abort();  // never called: avx2_fma() is false
+  std::abort();  // never called: collision_cpu::avx2_fma() is false
 }
-
-bool avx2_fma() { return false; }
 
 #endif
 

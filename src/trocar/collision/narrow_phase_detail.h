@@ -14,7 +14,7 @@ void exact_candidate(const CollisionObject& oa, const CollisionObject& ob, const
                      std::vector<Contact>& out);
 
 /// The rejection tests for four candidates of the same object pair at once (AVX2 + FMA), then
-/// exact_candidate() on those they keep. Requires avx2_fma() and counts that fit the 32-bit
+/// exact_candidate() on those they keep. Requires collision_cpu::avx2_fma() and counts that fit the 32-bit
 /// gathers (fits_gathers()).
 void reject4_avx2(const CollisionObject& oa, const CollisionObject& ob, const CandidatePair* pairs,
                   std::vector<Contact>& out);
@@ -24,8 +24,5 @@ inline bool fits_gathers(const CollisionObject& o) {
   constexpr std::size_t kLimit = 0x7fffffff / 3;
   return o.positions.size() < kLimit && o.triangles.size() < kLimit;
 }
-
-/// True when the CPU has AVX2 and FMA and TROCAR_SIMD is not "off" (checked once).
-bool avx2_fma();
 
 }  // namespace trocar::narrow_detail

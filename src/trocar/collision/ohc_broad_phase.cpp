@@ -1,5 +1,7 @@
 #include "trocar/collision/ohc_broad_phase.h"
 
+#include "trocar/collision/cpu_features.h"
+
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -263,13 +265,9 @@ __attribute__((target("avx2"))) static void refit_boxes_avx2(const Real* p, cons
   }
 }
 
-static bool cpu_has_avx2() {
-  static const bool has = __builtin_cpu_supports("avx2");
-  return has;
-}
 #endif
 
-Aabb OhcBroadPhase::refit_clusters(ObjectClusters& c, const CollisionObject& object) {
+Aabb OhcBroadPhase::refit_clusters(ObjectClusters& c, const CollisionObject& object, bool simd) {
   // The positions as flat doubles (Vec3 is three packed doubles); ids are offsets into them.
   const Real* p = object.positions.empty() ? nullptr : object.positions.data()->data();
   const std::uint32_t* ids = c.vertices.data();
@@ -280,7 +278,7 @@ Aabb OhcBroadPhase::refit_clusters(ObjectClusters& c, const CollisionObject& obj
   Real group_hi[3] = {-kInf, -kInf, -kInf};
   std::size_t first_sse_cluster = 0;  // all clusters when the AVX2 path ran
 #if defined(TROCAR_OHC_AVX2)
-  if (cpu_has_avx2()) {
+  if (simd && collision_cpu::avx2()) {
     if (object.positions.size() > kRefitPrefetchVertices) {
       refit_boxes_avx2<true>(p, ids, c.vertex_start.data(), c.boxes.size(), c.boxes.data(), c.groups.data(), olo,
                              ohi);
@@ -388,7 +386,7 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
         c.vertex_count != object.positions.size()) {
       build_clusters(c, object);  // first frame or another object: allocates
     }
-    boxes_[i] = refit_clusters(c, object);
+    boxes_[i] = refit_clusters(c, object, settings_.simd);
   }
   const bool by_cluster = settings_.cascade && settings_.cluster_cascade;
   margins_.resize(n);
@@ -577,7 +575,14 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
   }
   start[table] = running;
   entries_.resize(entry_count);
-  if (cell_starts_.size() < entries_.size()) cell_starts_.resize(entries_.size());  // a cell's worth
+  // emit_cell_pairs scratch, a cell's worth (the box arrays readable 3 past a cell's end).
+  if (cell_starts_.size() < entries_.size()) cell_starts_.resize(entries_.size());
+  if (cell_hits_.size() < entries_.size()) cell_hits_.resize(entries_.size());
+  if (cell_groups_.size() < entries_.size() + 1) cell_groups_.resize(entries_.size() + 1);
+  if (cell_stride_ < entries_.size() + 4) {
+    cell_stride_ = entries_.size() + 4;
+    cell_boxes_.assign(6 * cell_stride_, 0.0);
+  }
   Entry* entries = entries_.data();
   // The staged entries backwards, each slot filled from its back: every slot ends up in
   // ascending primitive order (step 5 relies on it).
@@ -639,9 +644,60 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
   stats_.candidate_pairs = out.size();
 }
 
+namespace {
+
+// Writes to `hits` the j in [begin, end) whose box (lo/hi: the cell's boxes, one array per axis
+// and side) is not separated from box (a_lo, a_hi) on any axis; returns how many. Exact: the
+// same comparisons as a scalar test (a NaN separates nothing, as there).
+std::uint32_t box_hits_scalar(const Real* const (&lo)[3], const Real* const (&hi)[3], std::uint32_t begin,
+                              std::uint32_t end, const Real (&a_lo)[3], const Real (&a_hi)[3], std::uint32_t* hits) {
+  std::uint32_t count = 0;
+  for (std::uint32_t j = begin; j < end; ++j) {
+    if (a_lo[0] > hi[0][j] || lo[0][j] > a_hi[0] || a_lo[1] > hi[1][j] || lo[1][j] > a_hi[1] || a_lo[2] > hi[2][j] ||
+        lo[2][j] > a_hi[2])
+      continue;
+    hits[count++] = j;
+  }
+  return count;
+}
+
+#if defined(__x86_64__) && defined(__GNUC__)
+// The same, four partners at a time (AVX2; chosen at run time). The arrays must be readable up to
+// end + 3.
+__attribute__((target("avx2"))) std::uint32_t box_hits_avx2(const Real* const (&lo)[3], const Real* const (&hi)[3],
+                                                            std::uint32_t begin, std::uint32_t end,
+                                                            const Real (&a_lo)[3], const Real (&a_hi)[3],
+                                                            std::uint32_t* hits) {
+  __m256d alo[3];
+  __m256d ahi[3];
+  for (int k = 0; k < 3; ++k) {
+    alo[k] = _mm256_set1_pd(a_lo[k]);
+    ahi[k] = _mm256_set1_pd(a_hi[k]);
+  }
+  std::uint32_t count = 0;
+  for (std::uint32_t j = begin; j < end; j += 4) {
+    __m256d apart = _mm256_setzero_pd();
+    for (int k = 0; k < 3; ++k) {
+      apart = _mm256_or_pd(apart, _mm256_cmp_pd(alo[k], _mm256_loadu_pd(hi[k] + j), _CMP_GT_OQ));
+      apart = _mm256_or_pd(apart, _mm256_cmp_pd(_mm256_loadu_pd(lo[k] + j), ahi[k], _CMP_GT_OQ));
+    }
+    unsigned bits = ~static_cast<unsigned>(_mm256_movemask_pd(apart)) & 15u;
+    if (end - j < 4) bits &= (1u << (end - j)) - 1u;
+    while (bits != 0) {
+      hits[count++] = j + static_cast<std::uint32_t>(std::countr_zero(bits));
+      bits &= bits - 1;
+    }
+  }
+  return count;
+}
+#endif
+
+}  // namespace
+
 void OhcBroadPhase::emit_cell_pairs(std::span<const Entry> cell, std::span<const CollisionObject> objects,
                                     std::vector<CandidatePair>& out) {
   const auto n = static_cast<std::uint32_t>(objects.size());
+  const auto size = static_cast<std::uint32_t>(cell.size());
   const std::int32_t cx = cell[0].x;
   const std::int32_t cy = cell[0].y;
   const std::int32_t cz = cell[0].z;
@@ -649,33 +705,62 @@ void OhcBroadPhase::emit_cell_pairs(std::span<const Entry> cell, std::span<const
   // i.e. per axis the larger of the two first cells. Both first cells are ≤ this cell's, so the
   // rule holds iff on every axis at least one of the two starts here: with bit k set when a
   // primitive's first cell on axis k is this cell's, (starts_a | starts_b) == 7. Computed once
-  // per entry, it rejects most pairs before their boxes are read.
+  // per entry. The boxes are copied into one array per axis and side, so that the box test (the
+  // first one: it rejects ~85 % of the pairs here, the dedup rule ~40 %) takes four partners
+  // at a time.
   std::uint8_t* starts = cell_starts_.data();
-  for (std::size_t i = 0; i < cell.size(); ++i) {
+  Real* const lo[3] = {cell_boxes_.data(), cell_boxes_.data() + cell_stride_, cell_boxes_.data() + 2 * cell_stride_};
+  Real* const hi[3] = {lo[2] + cell_stride_, lo[2] + 2 * cell_stride_, lo[2] + 3 * cell_stride_};
+  // The cell is sorted by primitive and so by object: `groups` lists where each object's run
+  // begins (and the end).
+  std::uint32_t* groups = cell_groups_.data();
+  std::uint32_t group_count = 0;
+  std::uint32_t last_object = ~0u;
+  for (std::uint32_t i = 0; i < size; ++i) {
     const Primitive& a = primitives_[cell[i].primitive];
     starts[i] = static_cast<std::uint8_t>((a.lo[0] == cx ? 1 : 0) | (a.lo[1] == cy ? 2 : 0) | (a.lo[2] == cz ? 4 : 0));
-  }
-  // The cell is sorted by primitive and so by object: pair each primitive only with those of
-  // later objects (skipping its own object's group).
-  std::size_t group_end = 0;
-  for (std::size_t i = 0; i < cell.size(); ++i) {
-    const Primitive& a = primitives_[cell[i].primitive];
-    if (i >= group_end) {
-      group_end = i + 1;
-      while (group_end < cell.size() && primitives_[cell[group_end].primitive].object == a.object) ++group_end;
+    for (int k = 0; k < 3; ++k) {
+      lo[k][i] = a.min[k];
+      hi[k][i] = a.max[k];
     }
-    const unsigned starts_a = starts[i];
-    for (std::size_t j = group_end; j < cell.size(); ++j) {
-      if ((starts_a | starts[j]) != 7u) continue;
-      const Primitive& b = primitives_[cell[j].primitive];
-      if (a.min[0] > b.max[0] || b.min[0] > a.max[0] || a.min[1] > b.max[1] || b.min[1] > a.max[1] ||
-          a.min[2] > b.max[2] || b.min[2] > a.max[2])
-        continue;
-      if (!tested_[static_cast<std::size_t>(a.object) * n + b.object]) continue;
-      if (object_first(objects[a.object].role, a.object, objects[b.object].role, b.object)) {
-        out.push_back({a.object, b.object, a.triangle, b.triangle});
-      } else {
-        out.push_back({b.object, a.object, b.triangle, a.triangle});
+    if (a.object != last_object) groups[group_count++] = i;
+    last_object = a.object;
+  }
+  groups[group_count] = size;
+  const Real* const clo[3] = {lo[0], lo[1], lo[2]};
+  const Real* const chi[3] = {hi[0], hi[1], hi[2]};
+#if defined(__x86_64__) && defined(__GNUC__)
+  const bool avx2 = settings_.simd && collision_cpu::avx2();
+#endif
+  std::uint32_t* hits = cell_hits_.data();
+  for (std::uint32_t g = 0; g + 1 < group_count; ++g) {
+    const std::uint32_t object_g = primitives_[cell[groups[g]].primitive].object;
+    for (std::uint32_t h = g + 1; h < group_count; ++h) {
+      const std::uint32_t object_h = primitives_[cell[groups[h]].primitive].object;
+      if (!tested_[static_cast<std::size_t>(object_g) * n + object_h]) continue;
+      const bool g_first = object_first(objects[object_g].role, object_g, objects[object_h].role, object_h);
+      const bool g_outside = groups[g + 1] - groups[g] <= groups[h + 1] - groups[h];
+      const std::uint32_t outer = g_outside ? g : h;
+      const std::uint32_t inner = g_outside ? h : g;
+      for (std::uint32_t i = groups[outer]; i < groups[outer + 1]; ++i) {
+        const Primitive& a = primitives_[cell[i].primitive];
+        const Real a_lo[3] = {a.min[0], a.min[1], a.min[2]};
+        const Real a_hi[3] = {a.max[0], a.max[1], a.max[2]};
+#if defined(__x86_64__) && defined(__GNUC__)
+        const std::uint32_t count = avx2 ? box_hits_avx2(clo, chi, groups[inner], groups[inner + 1], a_lo, a_hi, hits)
+                                         : box_hits_scalar(clo, chi, groups[inner], groups[inner + 1], a_lo, a_hi, hits);
+#else
+        const std::uint32_t count = box_hits_scalar(clo, chi, groups[inner], groups[inner + 1], a_lo, a_hi, hits);
+#endif
+        const unsigned starts_a = starts[i];
+        for (std::uint32_t k = 0; k < count; ++k) {
+          const std::uint32_t j = hits[k];
+          if ((starts_a | starts[j]) != 7u) continue;
+          const Primitive& b = primitives_[cell[j].primitive];
+          const Primitive& first = g_first == g_outside ? a : b;
+          const Primitive& second = g_first == g_outside ? b : a;
+          out.push_back({first.object, second.object, first.triangle, second.triangle});
+        }
       }
     }
   }

@@ -36,6 +36,10 @@ struct OhcSettings {
   /// would need more (a few huge triangles among tiny ones), the cell size is doubled until it
   /// fits. Keeps memory and time O(primitives) whatever the size mix (dimensionless).
   Real max_cells_per_primitive = 64;
+  /// Use the AVX2 kernels (cluster refit, box tests of a cell's pairs) where the CPU has them
+  /// and TROCAR_SIMD is not "off". false: the portable code (for tests and comparisons); the
+  /// pairs are the same either way.
+  bool simd = true;
 };
 
 /// What one find_pairs() call did (all counts for that frame only).
@@ -148,7 +152,7 @@ class OhcBroadPhase final : public BroadPhase {
   };
 
   static void build_clusters(ObjectClusters& c, const CollisionObject& object);
-  static Aabb refit_clusters(ObjectClusters& c, const CollisionObject& object);
+  static Aabb refit_clusters(ObjectClusters& c, const CollisionObject& object, bool simd);
   void cluster_cascade(std::uint32_t i, std::uint32_t j);
   void expand_region(std::uint32_t object, std::uint32_t cluster, const Aabb& box);
   void emit_cell_pairs(std::span<const Entry> cell, std::span<const CollisionObject> objects,
@@ -168,6 +172,10 @@ class OhcBroadPhase final : public BroadPhase {
   std::vector<Entry> staged_;              // entries in primitive order, before the counting sort
   std::vector<std::uint32_t> staged_slots_;  // their slots
   std::vector<std::uint8_t> cell_starts_;  // emit_cell_pairs scratch (≥ entries_.size())
+  std::vector<std::uint32_t> cell_hits_;   // emit_cell_pairs scratch (≥ entries_.size())
+  std::vector<std::uint32_t> cell_groups_;  // emit_cell_pairs scratch (≥ entries_.size() + 1)
+  std::vector<Real> cell_boxes_;           // emit_cell_pairs scratch: 6 arrays of cell_stride_
+  std::size_t cell_stride_ = 0;            // ≥ entries_.size() + 4
 };
 
 }  // namespace trocar

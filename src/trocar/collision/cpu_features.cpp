@@ -1,0 +1,34 @@
+#include "trocar/collision/cpu_features.h"
+
+#include <cstdlib>
+#include <string_view>
+
+namespace trocar::collision_cpu {
+namespace {
+
+bool simd_allowed() {
+  const char* env = std::getenv("TROCAR_SIMD");
+  return !(env != nullptr && std::string_view(env) == "off");
+}
+
+}  // namespace
+
+bool avx2() {
+#if defined(__x86_64__) && defined(__GNUC__)
+  static const bool has = __builtin_cpu_supports("avx2") && simd_allowed();
+  return has;
+#else
+  return false;
+#endif
+}
+
+bool avx2_fma() {
+#if defined(__x86_64__) && defined(__GNUC__)
+  static const bool has = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") && simd_allowed();
+  return has;
+#else
+  return false;
+#endif
+}
+
+}  // namespace trocar::collision_cpu
