@@ -69,9 +69,22 @@ Real p99(std::vector<Real> v) {
   return v[std::min(k, v.size() - 1)];
 }
 
-StudyRow run_point(const fs::path& file, ResponseMethod method, Real period, Real speed) {
+/// A response variant of the sweep: a method, with or without the depth cap (obb, project).
+struct Variant {
+  ResponseMethod method;
+  bool depth_cap = true;
+  /// "obb", …; "obb-uncapped" for the seed's step 7 verbatim.
+  std::string name() const {
+    std::string n = response_method_name(method);
+    const bool capped_kind = method == ResponseMethod::kObb || method == ResponseMethod::kProject;
+    return capped_kind && !depth_cap ? n + "-uncapped" : n;
+  }
+};
+
+StudyRow run_point(const fs::path& file, const Variant& variant, Real period, Real speed) {
   Scene scene = load_scene(file);
-  scene.settings.response.method = method;
+  scene.settings.response.method = variant.method;
+  scene.settings.response.depth_cap = variant.depth_cap;
   scene.settings.collision_period = period;
   Real end = 0;
   for (InstrumentBody& body : scene.world.instruments) {
@@ -82,7 +95,7 @@ StudyRow run_point(const fs::path& file, ResponseMethod method, Real period, Rea
   Simulation sim(std::move(scene.world), scene.settings);
   StudyRow row;
   row.scene = file.stem().string();
-  row.method = response_method_name(method);
+  row.method = variant.name();
   row.period_ms = period * 1e3;
   row.speed = speed;
   row.steps = static_cast<std::size_t>(std::ceil(duration / scene.timestep));
@@ -196,7 +209,7 @@ void write_summary(const fs::path& path, const std::vector<StudyRow>& rows, bool
     f << "## " << scene << ", speeds ≤ 1 m/s, worst over the sweep\n\n"
       << "| method | period (ms) | tunneling events | p99 penetration (mm) | max penetration (mm) | stable |\n"
       << "|---|---|---|---|---|---|\n";
-    for (const char* method : {"obb", "project", "primitive", "normal"})
+    for (const char* method : {"obb", "obb-uncapped", "project", "primitive", "normal"})
       for (Real period : {1.0, 2.0, 5.0}) {
         const Worst w = worst(rows, scene, method, period, 1.0);
         if (!w.any) continue;
@@ -208,7 +221,7 @@ void write_summary(const fs::path& path, const std::vector<StudyRow>& rows, bool
   const std::string goal_scene = "probe_press_slide";
   f << "## Goal (" << goal_scene << ", 1 ms detection, up to 1 m/s): zero tunneling and p99 ≤ 0.5 mm\n\n";
   const Worst prim = worst(rows, goal_scene, "primitive", 1.0, 1.0);
-  for (const char* method : {"obb", "project"}) {
+  for (const char* method : {"obb", "project", "obb-uncapped"}) {
     const Worst w = worst(rows, goal_scene, method, 1.0, 1.0);
     if (!w.any) continue;
     const bool met = w.tunneling == 0 && w.p99 <= 0.5e-3;
@@ -229,13 +242,15 @@ void run_study(const StudyArgs& a) {
   if (ec) throw Error("cannot create " + out.string() + ": " + ec.message());
   std::vector<std::string> scenes = {"probe_press_slide", "stab"};
   std::vector<Real> speeds = {0.01, 0.02, 0.05, 0.1, 0.2, 0.5, 1.0, 2.0};
-  std::vector<ResponseMethod> methods = {ResponseMethod::kObb, ResponseMethod::kPrimitive, ResponseMethod::kNormal,
-                                         ResponseMethod::kProject};
+  // obb and project with the depth cap (the simulator's), obb without it (the seed verbatim).
+  std::vector<Variant> methods = {{ResponseMethod::kObb},       {ResponseMethod::kObb, false},
+                                  {ResponseMethod::kPrimitive}, {ResponseMethod::kNormal},
+                                  {ResponseMethod::kProject}};
   std::vector<Real> periods = {0.001, 0.002, 0.005};
   if (a.quick) {
     scenes = {"probe_press_slide"};
     speeds = {0.5};
-    methods = {ResponseMethod::kObb, ResponseMethod::kPrimitive};
+    methods = {{ResponseMethod::kObb}, {ResponseMethod::kPrimitive}};
     periods = {0.001, 0.005};
   }
   const auto start = std::chrono::steady_clock::now();
@@ -244,7 +259,7 @@ void run_study(const StudyArgs& a) {
   for (const std::string& scene : scenes) {
     const fs::path file = dir / (scene + ".json");
     if (!fs::is_regular_file(file)) throw Error("scene not found: " + file.string());
-    for (ResponseMethod method : methods)
+    for (const Variant& method : methods)
       for (Real period : periods)
         for (Real speed : speeds) {
           rows.push_back(run_point(file, method, period, speed));

@@ -13,6 +13,9 @@ plot 'penetration.csv' using 4:((strcol(1) eq 'probe_press_slide' && strcol(2) e
      'penetration.csv' using 4:((strcol(1) eq 'probe_press_slide' && strcol(2) eq 'obb' && $3 == 1) ? $6 : NaN) with linespoints title 'obb 1 ms', \
      'penetration.csv' using 4:((strcol(1) eq 'probe_press_slide' && strcol(2) eq 'obb' && $3 == 2) ? $6 : NaN) with linespoints title 'obb 2 ms', \
      'penetration.csv' using 4:((strcol(1) eq 'probe_press_slide' && strcol(2) eq 'obb' && $3 == 5) ? $6 : NaN) with linespoints title 'obb 5 ms', \
+     'penetration.csv' using 4:((strcol(1) eq 'probe_press_slide' && strcol(2) eq 'obb-uncapped' && $3 == 1) ? $6 : NaN) with linespoints title 'obb-uncapped 1 ms', \
+     'penetration.csv' using 4:((strcol(1) eq 'probe_press_slide' && strcol(2) eq 'obb-uncapped' && $3 == 2) ? $6 : NaN) with linespoints title 'obb-uncapped 2 ms', \
+     'penetration.csv' using 4:((strcol(1) eq 'probe_press_slide' && strcol(2) eq 'obb-uncapped' && $3 == 5) ? $6 : NaN) with linespoints title 'obb-uncapped 5 ms', \
      'penetration.csv' using 4:((strcol(1) eq 'probe_press_slide' && strcol(2) eq 'primitive' && $3 == 1) ? $6 : NaN) with linespoints title 'primitive 1 ms', \
      'penetration.csv' using 4:((strcol(1) eq 'probe_press_slide' && strcol(2) eq 'primitive' && $3 == 2) ? $6 : NaN) with linespoints title 'primitive 2 ms', \
      'penetration.csv' using 4:((strcol(1) eq 'probe_press_slide' && strcol(2) eq 'primitive' && $3 == 5) ? $6 : NaN) with linespoints title 'primitive 5 ms', \
@@ -28,6 +31,9 @@ plot 'penetration.csv' using 4:((strcol(1) eq 'probe_press_slide' && strcol(2) e
      'penetration.csv' using 4:((strcol(1) eq 'probe_press_slide' && strcol(2) eq 'obb' && $3 == 1) ? $7 : NaN) with linespoints title 'obb 1 ms', \
      'penetration.csv' using 4:((strcol(1) eq 'probe_press_slide' && strcol(2) eq 'obb' && $3 == 2) ? $7 : NaN) with linespoints title 'obb 2 ms', \
      'penetration.csv' using 4:((strcol(1) eq 'probe_press_slide' && strcol(2) eq 'obb' && $3 == 5) ? $7 : NaN) with linespoints title 'obb 5 ms', \
+     'penetration.csv' using 4:((strcol(1) eq 'probe_press_slide' && strcol(2) eq 'obb-uncapped' && $3 == 1) ? $7 : NaN) with linespoints title 'obb-uncapped 1 ms', \
+     'penetration.csv' using 4:((strcol(1) eq 'probe_press_slide' && strcol(2) eq 'obb-uncapped' && $3 == 2) ? $7 : NaN) with linespoints title 'obb-uncapped 2 ms', \
+     'penetration.csv' using 4:((strcol(1) eq 'probe_press_slide' && strcol(2) eq 'obb-uncapped' && $3 == 5) ? $7 : NaN) with linespoints title 'obb-uncapped 5 ms', \
      'penetration.csv' using 4:((strcol(1) eq 'probe_press_slide' && strcol(2) eq 'primitive' && $3 == 1) ? $7 : NaN) with linespoints title 'primitive 1 ms', \
      'penetration.csv' using 4:((strcol(1) eq 'probe_press_slide' && strcol(2) eq 'primitive' && $3 == 2) ? $7 : NaN) with linespoints title 'primitive 2 ms', \
      'penetration.csv' using 4:((strcol(1) eq 'probe_press_slide' && strcol(2) eq 'primitive' && $3 == 5) ? $7 : NaN) with linespoints title 'primitive 5 ms', \
@@ -43,6 +49,9 @@ plot 'penetration.csv' using 4:((strcol(1) eq 'probe_press_slide' && strcol(2) e
      'penetration.csv' using 4:((strcol(1) eq 'probe_press_slide' && strcol(2) eq 'obb' && $3 == 1) ? $8 : NaN) with linespoints title 'obb 1 ms', \
      'penetration.csv' using 4:((strcol(1) eq 'probe_press_slide' && strcol(2) eq 'obb' && $3 == 2) ? $8 : NaN) with linespoints title 'obb 2 ms', \
      'penetration.csv' using 4:((strcol(1) eq 'probe_press_slide' && strcol(2) eq 'obb' && $3 == 5) ? $8 : NaN) with linespoints title 'obb 5 ms', \
+     'penetration.csv' using 4:((strcol(1) eq 'probe_press_slide' && strcol(2) eq 'obb-uncapped' && $3 == 1) ? $8 : NaN) with linespoints title 'obb-uncapped 1 ms', \
+     'penetration.csv' using 4:((strcol(1) eq 'probe_press_slide' && strcol(2) eq 'obb-uncapped' && $3 == 2) ? $8 : NaN) with linespoints title 'obb-uncapped 2 ms', \
+     'penetration.csv' using 4:((strcol(1) eq 'probe_press_slide' && strcol(2) eq 'obb-uncapped' && $3 == 5) ? $8 : NaN) with linespoints title 'obb-uncapped 5 ms', \
      'penetration.csv' using 4:((strcol(1) eq 'probe_press_slide' && strcol(2) eq 'primitive' && $3 == 1) ? $8 : NaN) with linespoints title 'primitive 1 ms', \
      'penetration.csv' using 4:((strcol(1) eq 'probe_press_slide' && strcol(2) eq 'primitive' && $3 == 2) ? $8 : NaN) with linespoints title 'primitive 2 ms', \
      'penetration.csv' using 4:((strcol(1) eq 'probe_press_slide' && strcol(2) eq 'primitive' && $3 == 5) ? $8 : NaN) with linespoints title 'primitive 5 ms', \
@@ -58,6 +67,9 @@ plot 'penetration.csv' using 4:((strcol(1) eq 'stab' && strcol(2) eq 'normal' &&
      'penetration.csv' using 4:((strcol(1) eq 'stab' && strcol(2) eq 'obb' && $3 == 1) ? $6 : NaN) with linespoints title 'obb 1 ms', \
      'penetration.csv' using 4:((strcol(1) eq 'stab' && strcol(2) eq 'obb' && $3 == 2) ? $6 : NaN) with linespoints title 'obb 2 ms', \
      'penetration.csv' using 4:((strcol(1) eq 'stab' && strcol(2) eq 'obb' && $3 == 5) ? $6 : NaN) with linespoints title 'obb 5 ms', \
+     'penetration.csv' using 4:((strcol(1) eq 'stab' && strcol(2) eq 'obb-uncapped' && $3 == 1) ? $6 : NaN) with linespoints title 'obb-uncapped 1 ms', \
+     'penetration.csv' using 4:((strcol(1) eq 'stab' && strcol(2) eq 'obb-uncapped' && $3 == 2) ? $6 : NaN) with linespoints title 'obb-uncapped 2 ms', \
+     'penetration.csv' using 4:((strcol(1) eq 'stab' && strcol(2) eq 'obb-uncapped' && $3 == 5) ? $6 : NaN) with linespoints title 'obb-uncapped 5 ms', \
      'penetration.csv' using 4:((strcol(1) eq 'stab' && strcol(2) eq 'primitive' && $3 == 1) ? $6 : NaN) with linespoints title 'primitive 1 ms', \
      'penetration.csv' using 4:((strcol(1) eq 'stab' && strcol(2) eq 'primitive' && $3 == 2) ? $6 : NaN) with linespoints title 'primitive 2 ms', \
      'penetration.csv' using 4:((strcol(1) eq 'stab' && strcol(2) eq 'primitive' && $3 == 5) ? $6 : NaN) with linespoints title 'primitive 5 ms', \
@@ -73,6 +85,9 @@ plot 'penetration.csv' using 4:((strcol(1) eq 'stab' && strcol(2) eq 'normal' &&
      'penetration.csv' using 4:((strcol(1) eq 'stab' && strcol(2) eq 'obb' && $3 == 1) ? $7 : NaN) with linespoints title 'obb 1 ms', \
      'penetration.csv' using 4:((strcol(1) eq 'stab' && strcol(2) eq 'obb' && $3 == 2) ? $7 : NaN) with linespoints title 'obb 2 ms', \
      'penetration.csv' using 4:((strcol(1) eq 'stab' && strcol(2) eq 'obb' && $3 == 5) ? $7 : NaN) with linespoints title 'obb 5 ms', \
+     'penetration.csv' using 4:((strcol(1) eq 'stab' && strcol(2) eq 'obb-uncapped' && $3 == 1) ? $7 : NaN) with linespoints title 'obb-uncapped 1 ms', \
+     'penetration.csv' using 4:((strcol(1) eq 'stab' && strcol(2) eq 'obb-uncapped' && $3 == 2) ? $7 : NaN) with linespoints title 'obb-uncapped 2 ms', \
+     'penetration.csv' using 4:((strcol(1) eq 'stab' && strcol(2) eq 'obb-uncapped' && $3 == 5) ? $7 : NaN) with linespoints title 'obb-uncapped 5 ms', \
      'penetration.csv' using 4:((strcol(1) eq 'stab' && strcol(2) eq 'primitive' && $3 == 1) ? $7 : NaN) with linespoints title 'primitive 1 ms', \
      'penetration.csv' using 4:((strcol(1) eq 'stab' && strcol(2) eq 'primitive' && $3 == 2) ? $7 : NaN) with linespoints title 'primitive 2 ms', \
      'penetration.csv' using 4:((strcol(1) eq 'stab' && strcol(2) eq 'primitive' && $3 == 5) ? $7 : NaN) with linespoints title 'primitive 5 ms', \
@@ -88,6 +103,9 @@ plot 'penetration.csv' using 4:((strcol(1) eq 'stab' && strcol(2) eq 'normal' &&
      'penetration.csv' using 4:((strcol(1) eq 'stab' && strcol(2) eq 'obb' && $3 == 1) ? $8 : NaN) with linespoints title 'obb 1 ms', \
      'penetration.csv' using 4:((strcol(1) eq 'stab' && strcol(2) eq 'obb' && $3 == 2) ? $8 : NaN) with linespoints title 'obb 2 ms', \
      'penetration.csv' using 4:((strcol(1) eq 'stab' && strcol(2) eq 'obb' && $3 == 5) ? $8 : NaN) with linespoints title 'obb 5 ms', \
+     'penetration.csv' using 4:((strcol(1) eq 'stab' && strcol(2) eq 'obb-uncapped' && $3 == 1) ? $8 : NaN) with linespoints title 'obb-uncapped 1 ms', \
+     'penetration.csv' using 4:((strcol(1) eq 'stab' && strcol(2) eq 'obb-uncapped' && $3 == 2) ? $8 : NaN) with linespoints title 'obb-uncapped 2 ms', \
+     'penetration.csv' using 4:((strcol(1) eq 'stab' && strcol(2) eq 'obb-uncapped' && $3 == 5) ? $8 : NaN) with linespoints title 'obb-uncapped 5 ms', \
      'penetration.csv' using 4:((strcol(1) eq 'stab' && strcol(2) eq 'primitive' && $3 == 1) ? $8 : NaN) with linespoints title 'primitive 1 ms', \
      'penetration.csv' using 4:((strcol(1) eq 'stab' && strcol(2) eq 'primitive' && $3 == 2) ? $8 : NaN) with linespoints title 'primitive 2 ms', \
      'penetration.csv' using 4:((strcol(1) eq 'stab' && strcol(2) eq 'primitive' && $3 == 5) ? $8 : NaN) with linespoints title 'primitive 5 ms', \

@@ -1,4 +1,5 @@
-// The seed's response case by case (thesis §3.6, Figs. 3.5–3.12), expected values by hand.
+// The seed's response case by case (thesis §3.6, Figs. 3.5–3.12), expected values by hand,
+// with the depth cap off (kSeed).
 //
 // Common set-up unless stated: tissue triangle B1 = (0,0,0), B2 = (1,0,0), B3 = (0,1,0) (m).
 // n = (B2−B1)×(B3−B1) = (1,0,0)×(0,1,0) = (0,0,1) = n_out, so n_in = (0,0,−1) and the
@@ -14,6 +15,14 @@ namespace trocar {
 namespace {
 
 constexpr Real kTol = 1e-12;
+
+// The seed's step 7 verbatim: these cases check its equations, so the simulator's depth cap
+// (depth_cap_test.cpp) is off.
+const ResponseSettings kSeed = [] {
+  ResponseSettings s;
+  s.depth_cap = false;
+  return s;
+}();
 
 ContactTriangles tissue_with(const Vec3& a1, const Vec3& a2, const Vec3& a3, const Vec3& v_instrument = Vec3::Zero(),
                              const Vec3& v_tissue = Vec3::Zero()) {
@@ -48,7 +57,7 @@ TEST(ResponseCases, OneVertexThrough_Fig3_5a) {
   // Instrument moves at (0,0,−1) m/s, tissue at rest: v̂ = (0,0,−1), PD·v̂ = 0.15, D = (0,0,−0.15).
   // f = K|D| + μ v·n_in = 2000·0.15 + 5·1 = 305 N; F = (0, 0, −305).
   const ContactTriangles t = tissue_with(Vec3(0.2, 0.2, 0.1), Vec3(0.4, 0.2, 0.1), Vec3(0.3, 0.3, -0.1), Vec3(0, 0, -1));
-  const ContactResponse r = respond_contact(t, straight_box(), nullptr, {}, ResponseSettings{});
+  const ContactResponse r = respond_contact(t, straight_box(), nullptr, {}, kSeed);
   ASSERT_EQ(r.status, ContactStatus::kApplied);
   EXPECT_EQ(r.inside_count, 1);
   EXPECT_EQ(r.lone_vertex, 2);
@@ -76,7 +85,7 @@ TEST(ResponseCases, EdgeThrough_Fig3_5b_RelabelledAsFig3_5c) {
   // Tissue at rest, instrument at rest: resting contact, D = (PD·n_in) n_in = (0, 0, −0.15),
   // f = 2000·0.15 = 300 N.
   const ContactTriangles t = tissue_with(Vec3(0.3, 0.3, 0.1), Vec3(0.2, 0.2, -0.1), Vec3(0.4, 0.2, -0.1));
-  const ContactResponse r = respond_contact(t, straight_box(), nullptr, {}, ResponseSettings{});
+  const ContactResponse r = respond_contact(t, straight_box(), nullptr, {}, kSeed);
   ASSERT_EQ(r.status, ContactStatus::kApplied);
   EXPECT_EQ(r.inside_count, 2);
   EXPECT_EQ(r.lone_vertex, 0);
@@ -89,7 +98,7 @@ TEST(ResponseCases, EdgeThrough_Fig3_5b_RelabelledAsFig3_5c) {
   // The other relabelled case: edge A3A1 inside (A1, A3 below, A2 above) → lone vertex index 1,
   // A1' = A3, A2' = A1. M on A3→A2 = (0.35, 0.25, 0), N on A1→A2 = (0.25, 0.25, 0) = P.
   const ContactTriangles t2 = tissue_with(Vec3(0.2, 0.2, -0.1), Vec3(0.3, 0.3, 0.1), Vec3(0.4, 0.2, -0.1));
-  const ContactResponse r2 = respond_contact(t2, straight_box(), nullptr, {}, ResponseSettings{});
+  const ContactResponse r2 = respond_contact(t2, straight_box(), nullptr, {}, kSeed);
   ASSERT_EQ(r2.status, ContactStatus::kApplied);
   EXPECT_EQ(r2.lone_vertex, 1);
   expect_vec(r2.m, Vec3(0.35, 0.25, 0));
@@ -105,7 +114,7 @@ TEST(ResponseCases, NOutsideMovedToEdge_Fig3_6a_3_7a) {
   // In A: (1−s)(1−tM) = 0.1, s(1−tN) = 0.4, (1−s)tM + s·tN = 0.5;
   // check: 0.1·A1 + 0.4·A2 + 0.5·A3 = (0.03 + 0.52 + 0.25, 0.2, 0.01 + 0.04 − 0.05) = P.
   const ContactTriangles t = tissue_with(Vec3(0.3, 0.2, 0.1), Vec3(1.3, 0.2, 0.1), Vec3(0.5, 0.2, -0.1));
-  const ContactResponse r = respond_contact(t, straight_box(), nullptr, {}, ResponseSettings{});
+  const ContactResponse r = respond_contact(t, straight_box(), nullptr, {}, kSeed);
   ASSERT_EQ(r.status, ContactStatus::kApplied);
   EXPECT_TRUE(r.moved_to_edge);
   expect_vec(r.n, Vec3(0.9, 0.2, 0));
@@ -119,7 +128,7 @@ TEST(ResponseCases, BothEndsOutsideMovedToEdge_Fig3_6b_3_7b) {
   // A3 = (0.5,0.2,−0.1): M = (−0.2, 0.2, 0) (λ2 = −0.2 < 0), N = (0.9, 0.2, 0) (λ1 = −0.1 < 0).
   // Inside B for x ∈ [0, 0.8]; P is the end nearer N: (0.8, 0.2, 0), s = 1.0/1.1.
   const ContactTriangles t = tissue_with(Vec3(-0.9, 0.2, 0.1), Vec3(1.3, 0.2, 0.1), Vec3(0.5, 0.2, -0.1));
-  const ContactResponse r = respond_contact(t, straight_box(), nullptr, {}, ResponseSettings{});
+  const ContactResponse r = respond_contact(t, straight_box(), nullptr, {}, kSeed);
   ASSERT_EQ(r.status, ContactStatus::kApplied);
   EXPECT_TRUE(r.moved_to_edge);
   expect_vec(r.m, Vec3(-0.2, 0.2, 0));
@@ -131,7 +140,7 @@ TEST(ResponseCases, PExactlyOnTissueVertex) {
   // MN runs along edge B1B2 (y = 0): A1 = (0.5,0,0.1), A2 = (1.5,0,0.1), A3 = (1,0,−0.1):
   // M = (0.75,0,0), N = (1.25,0,0) outside; λ3 stays exactly 0 along MN; P = B2 = (1,0,0).
   const ContactTriangles t = tissue_with(Vec3(0.5, 0, 0.1), Vec3(1.5, 0, 0.1), Vec3(1, 0, -0.1));
-  const ContactResponse r = respond_contact(t, straight_box(), nullptr, {}, ResponseSettings{});
+  const ContactResponse r = respond_contact(t, straight_box(), nullptr, {}, kSeed);
   ASSERT_EQ(r.status, ContactStatus::kApplied);
   expect_vec(r.point, Vec3(1, 0, 0));
   expect_vec(r.weights_b, Vec3(0, 1, 0));
@@ -151,8 +160,8 @@ TEST(ResponseCases, PiercedOrganFarSideDiscarded_Fig3_12) {
   const ContactTriangles near_side = tissue_with(a1, a2, a3);
   ContactTriangles far_side = near_side;
   far_side.b = {Vec3(0, 0, -0.02), Vec3(0, 1, -0.02), Vec3(1, 0, -0.02)};
-  const ContactResponse r1 = respond_contact(near_side, box, &top, {}, ResponseSettings{});
-  const ContactResponse r2 = respond_contact(far_side, box, &top, {}, ResponseSettings{});
+  const ContactResponse r1 = respond_contact(near_side, box, &top, {}, kSeed);
+  const ContactResponse r2 = respond_contact(far_side, box, &top, {}, kSeed);
   EXPECT_EQ(r1.status, ContactStatus::kApplied);
   EXPECT_EQ(r2.status, ContactStatus::kPierced);
   EXPECT_EQ(r2.force, Vec3::Zero());
@@ -162,7 +171,7 @@ TEST(ResponseCases, PiercedOrganFarSideDiscarded_Fig3_12) {
   expect_vec(r1.force, Vec3(0, 0, -200), 1e-9);
   // Without the filter the far side would push the organ up (+z) by the box's top part:
   // ray along +z from z = −0.02 leaves at z = 0.5: PD = (0,0,0.52), f = 1040 N, wrong way.
-  ResponseSettings off;
+  ResponseSettings off = kSeed;
   off.pierce_filter = false;
   const ContactResponse r3 = respond_contact(far_side, box, &top, {}, off);
   ASSERT_EQ(r3.status, ContactStatus::kApplied);
@@ -210,7 +219,7 @@ TEST(ResponseCases, SamePenetrationThreeVelocityDirections_Fig3_11) {
   // (a) instrument straight down (0,0,−1): D = (PD·v̂)v̂ = 0.2621320·(0,0,−1);
   //     f = 2000·0.2621320 + 5·1 = 529.2640 N.
   {
-    const ContactResponse r = respond_contact(tissue_with(a1, a2, a3, Vec3(0, 0, -1)), box, nullptr, {}, {});
+    const ContactResponse r = respond_contact(tissue_with(a1, a2, a3, Vec3(0, 0, -1)), box, nullptr, {}, kSeed);
     ASSERT_EQ(r.status, ContactStatus::kApplied);
     expect_vec(r.penetration, pd);
     expect_vec(r.deformation, Vec3(0, 0, pd.z()));
@@ -220,7 +229,7 @@ TEST(ResponseCases, SamePenetrationThreeVelocityDirections_Fig3_11) {
   //     D = t1·a1 = (0.1664214, 0, −0.1664214); v·n_in = c; f = 2000·t1 + 5c = 474.2463 N.
   {
     const Vec3 v(kC, 0, -kC);
-    const ContactResponse r = respond_contact(tissue_with(a1, a2, a3, v), box, nullptr, {}, {});
+    const ContactResponse r = respond_contact(tissue_with(a1, a2, a3, v), box, nullptr, {}, kSeed);
     ASSERT_EQ(r.status, ContactStatus::kApplied);
     expect_vec(r.penetration, pd);
     expect_vec(r.deformation, kT1 * v);
@@ -231,7 +240,7 @@ TEST(ResponseCases, SamePenetrationThreeVelocityDirections_Fig3_11) {
   //     D = t3·(−c,0,−c); v_rel·n_in = 1; f = 2000·t3 + 5 = 275.7107 N.
   {
     const ContactResponse r =
-        respond_contact(tissue_with(a1, a2, a3, Vec3(0, 0, -1), Vec3(1, 0, 0)), box, nullptr, {}, {});
+        respond_contact(tissue_with(a1, a2, a3, Vec3(0, 0, -1), Vec3(1, 0, 0)), box, nullptr, {}, kSeed);
     ASSERT_EQ(r.status, ContactStatus::kApplied);
     expect_vec(r.relative_velocity, Vec3(-1, 0, -1));
     expect_vec(r.deformation, kT3 * Vec3(-kC, 0, -kC));
@@ -239,7 +248,7 @@ TEST(ResponseCases, SamePenetrationThreeVelocityDirections_Fig3_11) {
   }
   // Receding (0,0,+1): PD·v̂ < 0 → fallback D = (PD·n_in) n_in; damping −5: f = 524.2640 − 5.
   {
-    const ContactResponse r = respond_contact(tissue_with(a1, a2, a3, Vec3(0, 0, 1)), box, nullptr, {}, {});
+    const ContactResponse r = respond_contact(tissue_with(a1, a2, a3, Vec3(0, 0, 1)), box, nullptr, {}, kSeed);
     expect_vec(r.deformation, Vec3(0, 0, pd.z()));
     EXPECT_NEAR(r.force.z(), -(2000 * -pd.z() - 5), 1e-9);
   }
@@ -250,7 +259,7 @@ TEST(ResponseCases, RestingContact) {
   // f = 2000·0.2621320 = 524.2641 N, no damping term.
   const Vec3 p(0.35, 0.25, 0);
   const ContactResponse r = respond_contact(
-      tissue_with(Vec3(0.2, 0.2, 0.1), Vec3(0.4, 0.2, 0.1), Vec3(0.3, 0.3, -0.1)), tilted_box(p), nullptr, {}, {});
+      tissue_with(Vec3(0.2, 0.2, 0.1), Vec3(0.4, 0.2, 0.1), Vec3(0.3, 0.3, -0.1)), tilted_box(p), nullptr, {}, kSeed);
   ASSERT_EQ(r.status, ContactStatus::kApplied);
   const Real depth = kC * (0.3 + 0.1 * kC);
   expect_vec(r.deformation, Vec3(0, 0, -depth));
@@ -258,7 +267,7 @@ TEST(ResponseCases, RestingContact) {
   // Slower than the threshold counts as resting too.
   const ContactResponse r2 = respond_contact(
       tissue_with(Vec3(0.2, 0.2, 0.1), Vec3(0.4, 0.2, 0.1), Vec3(0.3, 0.3, -0.1), Vec3(1e-8, 0, 0)), tilted_box(p),
-      nullptr, {}, {});
+      nullptr, {}, kSeed);
   expect_vec(r2.deformation, Vec3(0, 0, -depth));
 }
 
@@ -276,10 +285,14 @@ TEST(ResponseCases, Baselines) {
   const Vec3 instrument[] = {t.a[0], t.a[1], t.a[2], Vec3(0.3, 0.3, -0.3)};
   r = respond_contact(t, straight_box(), nullptr, instrument, s);
   expect_vec(r.force, Vec3(0, 0, -600), 1e-9);
-  // project: the seed's D (0.15 deep, straight box) → 300 N.
+  // project: the seed's D (0.15 deep, straight box) → 300 N; with the depth cap, A3's 0.1 → 200 N.
   s.method = ResponseMethod::kProject;
+  s.depth_cap = false;
   r = respond_contact(t, straight_box(), nullptr, {}, s);
   expect_vec(r.force, Vec3(0, 0, -300), 1e-9);
+  s.depth_cap = true;
+  r = respond_contact(t, straight_box(), nullptr, {}, s);
+  expect_vec(r.force, Vec3(0, 0, -200), 1e-9);
   EXPECT_EQ(parse_response_method("normal"), ResponseMethod::kNormal);
   EXPECT_EQ(parse_response_method("OBB"), std::nullopt);
   EXPECT_STREQ(response_method_name(ResponseMethod::kPrimitive), "primitive");

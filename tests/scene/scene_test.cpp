@@ -34,7 +34,7 @@ std::string error_of(const std::string& text, const std::filesystem::path& dir =
 TEST(Scene, ValidSceneBuildsTheWorld) {
   const Scene scene = parse_scene(scene_text(R"(, "fixed": {"below_plane": {"point": [0,0,-0.02], "normal": [0,0,1]}})",
                                              R"( "name": "t", "collision": {"broad_phase": "bvh", "cell_size": 0.004, "period": 0.002},
-                                                 "response": {"method": "project", "stiffness": 100},)"),
+                                                 "response": {"method": "project", "stiffness": 100, "depth_cap": false},)"),
                                   "scene.json", ".");
   EXPECT_EQ(scene.name, "t");
   ASSERT_EQ(scene.world.tissues.size(), 1u);
@@ -49,6 +49,8 @@ TEST(Scene, ValidSceneBuildsTheWorld) {
   EXPECT_EQ(scene.settings.collision_period, 0.002);
   EXPECT_EQ(scene.settings.response.method, ResponseMethod::kProject);
   EXPECT_EQ(scene.settings.response.stiffness, 100.0);
+  EXPECT_FALSE(scene.settings.response.depth_cap);
+  EXPECT_TRUE(parse_scene(scene_text(), "scene.json", ".").settings.response.depth_cap);  // the default
 }
 
 TEST(Scene, UnknownKeyNamesItsPath) {
@@ -58,6 +60,8 @@ TEST(Scene, UnknownKeyNamesItsPath) {
 
 TEST(Scene, WrongTypeNamesItsPath) {
   EXPECT_EQ(error_of(scene_text("", R"( "timestep": "fast",)")), "scene.json: timestep: must be a number, not a string");
+  EXPECT_EQ(error_of(scene_text("", R"( "response": {"depth_cap": 1},)")),
+            "scene.json: response.depth_cap: must be a boolean, not a number");
 }
 
 TEST(Scene, MissingFileNamesTheKeyAndThePath) {

@@ -120,35 +120,66 @@ TEST(Simulation, DeterministicStateHash) {
   EXPECT_EQ(hash_hex(a).size(), 16u);
 }
 
-TEST(Simulation, RestingProbeSettlesWithoutJitter) {
-  // The `normal` response: with `obb` the OBB depth of a round tip in resting contact overshoots
-  // and the contact chatters on and off (a finding for the response module, see the report).
-  Scene scene = test::probe_scene(0.035, 0.028, 0.05);  // 2 mm of indentation, then hold
-  scene.settings.response.method = ResponseMethod::kNormal;
+/// Presses the probe 2 mm into the ball, holds it, and returns the instrument force (z) and the
+/// fastest tissue vertex over the last 200 ms of 1.5 s.
+struct HoldResult {
+  std::vector<Real> force;
+  Real speed = 0;
+};
+HoldResult hold_probe(ResponseMethod method, bool depth_cap) {
+  Scene scene = test::probe_scene(0.035, 0.028, 0.05);
+  scene.settings.response.method = method;
+  scene.settings.response.depth_cap = depth_cap;
   Simulation sim(std::move(scene.world), scene.settings);
-  std::vector<Real> late_force;
-  Real late_speed = 0;
+  HoldResult out;
   for (int n = 0; n < 1500; ++n) {
     const StepMetrics& m = sim.step(1e-3);
-    ASSERT_TRUE(m.finite);
+    EXPECT_TRUE(m.finite);
+    if (!m.finite) break;
     if (n >= 1300) {
-      late_force.push_back(sim.instrument_metrics()[0].force.z());
-      late_speed = std::max(late_speed, m.max_speed);
+      out.force.push_back(sim.instrument_metrics()[0].force.z());
+      out.speed = std::max(out.speed, m.max_speed);
     }
   }
-  // Velocity → 0: every tissue vertex slower than 1 cm/s over the last 200 ms (it was ~0.3 m/s
-  // while pressing).
-  EXPECT_LT(late_speed, 1e-2);
-  // Steady contact force, no on/off chatter: never zero, relative standard deviation ≤ 15 %
-  // (measured ~12 %: contacts still appear and vanish at the rim of the contact patch).
+  return out;
+}
+
+Real relative_deviation(const std::vector<Real>& v) {
   Real mean = 0, square = 0;
-  for (Real f : late_force) mean += f;
-  mean /= static_cast<Real>(late_force.size());
-  for (Real f : late_force) square += (f - mean) * (f - mean);
-  const Real deviation = std::sqrt(square / static_cast<Real>(late_force.size()));
-  EXPECT_GT(mean, 0.1);
-  EXPECT_LT(deviation, 0.15 * mean);
-  EXPECT_GT(*std::min_element(late_force.begin(), late_force.end()), 0.0);
+  for (Real f : v) mean += f;
+  mean /= static_cast<Real>(v.size());
+  for (Real f : v) square += (f - mean) * (f - mean);
+  return std::sqrt(square / static_cast<Real>(v.size())) / mean;
+}
+
+TEST(Simulation, RestingProbeSettlesWithoutJitter) {
+  // The seed's `obb` (with its depth cap, the default) and `normal`.
+  for (const ResponseMethod method : {ResponseMethod::kObb, ResponseMethod::kNormal}) {
+    SCOPED_TRACE(response_method_name(method));
+    const HoldResult r = hold_probe(method, true);
+    ASSERT_EQ(r.force.size(), 200u);
+    // Velocity → 0: every tissue vertex slower than 1 cm/s over the last 200 ms (it was ~0.3 m/s
+    // while pressing).
+    EXPECT_LT(r.speed, 1e-2);
+    // Steady contact force, no on/off chatter: never zero, relative standard deviation ≤ 15 %
+    // (contacts still appear and vanish at the rim of the contact patch).
+    EXPECT_GT(*std::min_element(r.force.begin(), r.force.end()), 0.0);
+    EXPECT_LT(relative_deviation(r.force), 0.15);
+  }
+}
+
+TEST(Simulation, UncappedSeedChattersOnARestingProbe) {
+  // The seed's step 7 verbatim: PD reaches to the side of the capsule's box however shallow the
+  // contact, so the force jumps between 0 and K·(box distance) and the tissue never settles.
+  const HoldResult r = hold_probe(ResponseMethod::kObb, false);
+  ASSERT_EQ(r.force.size(), 200u);
+  const Real min_force = *std::min_element(r.force.begin(), r.force.end());
+  std::printf("[ uncapped obb ] late speed %.4f m/s, min force %.4f N, relative deviation %.3f\n", r.speed,
+              min_force, relative_deviation(r.force));
+  // Measured: 0.74 m/s, contact lost (force 0) within the window, deviation 164 %.
+  EXPECT_GT(r.speed, 0.1);
+  EXPECT_EQ(min_force, 0.0);
+  EXPECT_GT(relative_deviation(r.force), 0.5);
 }
 
 TEST(Simulation, CollisionPeriodDetectsEveryKthStep) {

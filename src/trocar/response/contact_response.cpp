@@ -191,6 +191,19 @@ ContactResponse respond_contact(const ContactTriangles& tri, const Obb& box, con
         depth = std::max(pd.dot(n_in), Real{0});
         dvec = depth * n_in;
       }
+      // Depth cap (a departure from the seed, docs/response.md): PD measures to the side of the
+      // instrument's box, which the instrument fills only if it is a box, so PD stays
+      // millimetres or more however shallow the contact is. Capped at the instrument triangle's
+      // deepest vertex below the tissue plane (step 2's d_i), |D| goes to 0 with the contact;
+      // for a box-shaped instrument pressing face first the two depths are equal.
+      if (settings.depth_cap) {
+        const Real local = -std::min({d[0], d[1], d[2]}) * inv_len;
+        r.depth_capped = depth > local;
+        if (r.depth_capped) {
+          dvec *= depth > 0 ? local / depth : Real{0};
+          depth = local;
+        }
+      }
       break;
     }
     case ResponseMethod::kPrimitive: {

@@ -50,6 +50,7 @@ struct ContactResponse {
   Vec3 relative_velocity = Vec3::Zero();  ///< v_rel = V_I − V_T at P (m/s)
   Vec3 deformation = Vec3::Zero();  ///< D (eq. 3.8, or the baseline's depth·n_in) (m)
   Real depth = 0;                   ///< |D| (m)
+  bool depth_capped = false;        ///< obb/project: |D| was cut to the triangle's depth (depth cap)
   Vec3 force = Vec3::Zero();        ///< F on the tissue at P (N), = f·n_in with f ≥ 0
 };
 

@@ -34,6 +34,11 @@ struct ResponseSettings {
   /// Jaw closure (0..1) at or above which jaw triangles grasp the tissue they touch.
   Real grasp_closure = 0.9;
   bool pierce_filter = true;   ///< step 9: discard contacts whose tissue has the top vertex inside
+  /// obb and project: cap |D| at the instrument triangle's depth below the tissue plane, so the
+  /// force falls to zero as the contact opens (docs/response.md "Depth cap"); false runs the
+  /// seed's step 7 verbatim, whose force jumps from 0 to K·(distance to the box's side) at first
+  /// touch and makes a held instrument chatter.
+  bool depth_cap = true;
 };
 
 }  // namespace trocar

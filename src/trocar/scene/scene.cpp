@@ -192,7 +192,8 @@ void read_collision(const JsonReader& c, Scene& scene) {
 }
 
 void read_response(const JsonReader& r, Scene& scene) {
-  r.expect_keys({"method", "stiffness", "damping", "max_force", "resting_speed", "grasp_closure", "pierce_filter"});
+  r.expect_keys({"method", "stiffness", "damping", "max_force", "resting_speed", "grasp_closure", "pierce_filter",
+                 "depth_cap"});
   ResponseSettings& s = scene.settings.response;
   if (r.has("method")) {
     const JsonReader m = r.at("method");
@@ -210,6 +211,7 @@ void read_response(const JsonReader& r, Scene& scene) {
     if (s.grasp_closure > 1) r.at("grasp_closure").fail("must be <= 1");
   }
   if (r.has("pierce_filter")) s.pierce_filter = r.at("pierce_filter").boolean();
+  if (r.has("depth_cap")) s.depth_cap = r.at("depth_cap").boolean();
 }
 
 }  // namespace
