@@ -110,8 +110,11 @@ struct Interval4 {
     const __m256d abs_dd = _mm256_andnot_pd(_mm256_set1_pd(-0.0), dd);
     const __m256d steep = gt(abs_dd, tau);
     // d(λ) = di + λ·dd ∈ [−tau, tau] for λ between a and b (only where the edge is steep).
-    const __m256d a = _mm256_div_pd(_mm256_sub_pd(neg_tau, di), dd);
-    const __m256d b = _mm256_div_pd(_mm256_sub_pd(tau, di), dd);
+    // One division for both (a reciprocal rounds differently from the portable path's two
+    // divisions, by a few ulp: nothing next to the slab's 1e-9·L).
+    const __m256d inv = _mm256_div_pd(_mm256_set1_pd(1.0), dd);
+    const __m256d a = _mm256_mul_pd(_mm256_sub_pd(neg_tau, di), inv);
+    const __m256d b = _mm256_mul_pd(_mm256_sub_pd(tau, di), inv);
     const __m256d zero = _mm256_setzero_pd();
     const __m256d one = _mm256_set1_pd(1.0);
     __m256d l0 = _mm256_blendv_pd(zero, _mm256_max_pd(zero, _mm256_min_pd(a, b)), steep);

@@ -577,7 +577,7 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
   entries_.resize(entry_count);
   // emit_cell_pairs scratch, a cell's worth (the box arrays readable 3 past a cell's end).
   if (cell_starts_.size() < entries_.size()) cell_starts_.resize(entries_.size());
-  if (cell_hits_.size() < entries_.size()) cell_hits_.resize(entries_.size());
+  if (cell_hits_.size() < entries_.size() + 4) cell_hits_.resize(entries_.size() + 4);
   if (cell_groups_.size() < entries_.size() + 1) cell_groups_.resize(entries_.size() + 1);
   if (cell_stride_ < entries_.size() + 4) {
     cell_stride_ = entries_.size() + 4;
@@ -683,9 +683,11 @@ __attribute__((target("avx2"))) std::uint32_t box_hits_avx2(const Real* const (&
     }
     unsigned bits = ~static_cast<unsigned>(_mm256_movemask_pd(apart)) & 15u;
     if (end - j < 4) bits &= (1u << (end - j)) - 1u;
-    while (bits != 0) {
-      hits[count++] = j + static_cast<std::uint32_t>(std::countr_zero(bits));
-      bits &= bits - 1;
+    // Branch-free compaction (the hits are few and random: a loop over the set bits mispredicts):
+    // every lane is written, the count advances only past the hits. hits has room for 3 more.
+    for (std::uint32_t t = 0; t < 4; ++t) {
+      hits[count] = j + t;
+      count += (bits >> t) & 1u;
     }
   }
   return count;
