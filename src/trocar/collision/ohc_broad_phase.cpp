@@ -23,7 +23,7 @@ namespace {
 // (max of the lower cells) stays consistent; far-away boxes merely share boundary cells.
 constexpr Real kCellClamp = 1073741824.0;
 
-std::int32_t cell_of(Real x, Real inv_h) {
+[[maybe_unused]] std::int32_t cell_of(Real x, Real inv_h) {  // the portable cell_range()
   // floor(clamp(v)) = clamp(floor(v)) as the bounds are integers. The floor is a truncation
   // stepped down for negative non-integers (exact for |v| ≤ 2^30; no libm call, which the
   // baseline x86-64 ISA would need). NaN gives INT32_MIN, as the cast in a plain floor would.
@@ -367,6 +367,32 @@ Aabb OhcBroadPhase::refit_clusters(ObjectClusters& c, const CollisionObject& obj
   return box.inflated(kBoxMargin * box.size().maxCoeff());
 }
 
+void OhcBroadPhase::cell_range(Primitive& prim, Real inv_h) {
+#if defined(__SSE2__)
+  // cell_of() on two coordinates at a time, bit for bit: min and max are six consecutive doubles
+  // and lo, hi six consecutive int32 (static_asserts in the header), taken as three pairs.
+  // _mm_min_pd/_mm_max_pd return their second operand when one is NaN, so a NaN stays NaN
+  // through the clamp and converts to INT32_MIN, as in cell_of().
+  const __m128d scale = _mm_set1_pd(inv_h);
+  const __m128d upper = _mm_set1_pd(kCellClamp);
+  const __m128d lower = _mm_set1_pd(-kCellClamp);
+  const Real* x = prim.min.data();
+  std::int32_t* out = prim.lo;
+  for (int pair = 0; pair < 3; ++pair) {
+    const __m128d v = _mm_max_pd(lower, _mm_min_pd(upper, _mm_mul_pd(_mm_loadu_pd(x + 2 * pair), scale)));
+    const __m128i t = _mm_cvttpd_epi32(v);
+    // −1 where the truncation went up (negative non-integers): the 64-bit masks' low halves.
+    const __m128i up = _mm_shuffle_epi32(_mm_castpd_si128(_mm_cmpgt_pd(_mm_cvtepi32_pd(t), v)), _MM_SHUFFLE(3, 3, 2, 0));
+    _mm_storel_epi64(reinterpret_cast<__m128i*>(out + 2 * pair), _mm_add_epi32(t, up));
+  }
+#else
+  for (int k = 0; k < 3; ++k) {
+    prim.lo[k] = cell_of(prim.min[k], inv_h);
+    prim.hi[k] = cell_of(prim.max[k], inv_h);
+  }
+#endif
+}
+
 void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::vector<CandidatePair>& out) {
   out.clear();
   stats_ = {};
@@ -518,10 +544,9 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
       grid_hi[k] = std::numeric_limits<std::int32_t>::min();
     }
     for (Primitive& prim : primitives_) {
+      cell_range(prim, inv_h);
       Real cells = 1;
       for (int k = 0; k < 3; ++k) {
-        prim.lo[k] = cell_of(prim.min[k], inv_h);
-        prim.hi[k] = cell_of(prim.max[k], inv_h);
         cells *= static_cast<Real>(prim.hi[k] - prim.lo[k]) + 1;
         grid_lo[k] = std::min(grid_lo[k], prim.lo[k]);
         grid_hi[k] = std::max(grid_hi[k], prim.hi[k]);

@@ -1,6 +1,7 @@
 #pragma once
 /// OHC: the cascaded, hashed spatial-occupancy broad phase (object AABBs → grid cells →
 /// empty / solo / potential-colliding cells → candidate pairs). See docs/collision.md.
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -119,6 +120,9 @@ class OhcBroadPhase final : public BroadPhase {
     std::uint32_t object;      ///< object index
     std::uint32_t triangle;    ///< triangle index in that object
   };
+  static_assert(offsetof(Primitive, max) == offsetof(Primitive, min) + 3 * sizeof(Real) &&
+                    offsetof(Primitive, hi) == offsetof(Primitive, lo) + 3 * sizeof(std::int32_t),
+                "cell_range() reads min, max and writes lo, hi as six consecutive values each");
   /// One (primitive, cell) entry of the table.
   struct Entry {
     std::int32_t x, y, z;      ///< cell
@@ -154,6 +158,8 @@ class OhcBroadPhase final : public BroadPhase {
   static void build_clusters(ObjectClusters& c, const CollisionObject& object);
   static Aabb refit_clusters(ObjectClusters& c, const CollisionObject& object, bool simd);
   void cluster_cascade(std::uint32_t i, std::uint32_t j);
+  /// The primitive's first and last cells per axis (lo, hi) for cells of edge 1 / inv_h.
+  static void cell_range(Primitive& prim, Real inv_h);
   void expand_region(std::uint32_t object, std::uint32_t cluster, const Aabb& box);
   void emit_cell_pairs(std::span<const Entry> cell, std::span<const CollisionObject> objects,
                        std::vector<CandidatePair>& out);
