@@ -190,7 +190,7 @@ void narrow_phase(std::span<const CollisionObject> objects, std::span<const Cand
     if (simd && k + 4 <= pairs.size() && pairs[k + 3].object_a == pair.object_a &&
         pairs[k + 3].object_b == pair.object_b && pairs[k + 1].object_a == pair.object_a &&
         pairs[k + 1].object_b == pair.object_b && pairs[k + 2].object_a == pair.object_a &&
-        pairs[k + 2].object_b == pair.object_b && fits_gathers(oa) && fits_gathers(ob)) {
+        pairs[k + 2].object_b == pair.object_b) {
       reject4_avx2(oa, ob, &pairs[k], out);
       k += 4;
       continue;

@@ -1,5 +1,5 @@
 // The narrow phase's plane stage for four candidates at once (AVX2 + FMA, chosen at run time).
-// Lane k holds candidate k: its corners are gathered from the positions, and the same tests as
+// Lane k holds candidate k: its corners are loaded from the positions, and the same tests as
 // the portable path (narrow_phase.cpp) run on all four — A's plane against B's corners, B's
 // plane against A's corners, each with the conservative 1e-9·L margin. Only the candidates
 // neither plane rejects go on, one by one, to the interval test and the exact test. FMA rounds
@@ -36,14 +36,26 @@ TROCAR_AVX2 V3 cross(const V3& a, const V3& b) {
   return {_mm256_fmsub_pd(a.y, b.z, _mm256_mul_pd(a.z, b.y)), _mm256_fmsub_pd(a.z, b.x, _mm256_mul_pd(a.x, b.z)),
           _mm256_fmsub_pd(a.x, b.y, _mm256_mul_pd(a.y, b.x))};
 }
-// The masked gathers with an explicit source and a full mask: GCC 12's plain
-// _mm256_i32gather_pd reads an uninitialised source (a -Wuninitialized error).
-TROCAR_AVX2 __m256d gather1(const double* p, __m128i ids) {
-  const __m256d ones = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
-  return _mm256_mask_i32gather_pd(_mm256_setzero_pd(), p, ids, ones, 8);
+// Four points (x, y, z each) as x, y, z vectors: four masked 32-byte loads (the fourth lane is
+// not read, so nothing past a positions array is touched) and a 4 × 4 transpose; cheaper than
+// gathers here.
+TROCAR_AVX2 V3 load4(const double* p0, const double* p1, const double* p2, const double* p3) {
+  const __m256i xyz = _mm256_setr_epi64x(-1, -1, -1, 0);
+  const __m256d r0 = _mm256_maskload_pd(p0, xyz);  // x0 y0 z0 0
+  const __m256d r1 = _mm256_maskload_pd(p1, xyz);
+  const __m256d r2 = _mm256_maskload_pd(p2, xyz);
+  const __m256d r3 = _mm256_maskload_pd(p3, xyz);
+  const __m256d xz01 = _mm256_unpacklo_pd(r0, r1);  // x0 x1 z0 z1
+  const __m256d y01 = _mm256_unpackhi_pd(r0, r1);   // y0 y1 0 0
+  const __m256d xz23 = _mm256_unpacklo_pd(r2, r3);
+  const __m256d y23 = _mm256_unpackhi_pd(r2, r3);
+  return {_mm256_permute2f128_pd(xz01, xz23, 0x20), _mm256_permute2f128_pd(y01, y23, 0x20),
+          _mm256_permute2f128_pd(xz01, xz23, 0x31)};
 }
-// Corner `ids` (offsets in doubles, 3 × vertex id) of four triangles.
-TROCAR_AVX2 V3 gather(const double* p, __m128i ids) { return {gather1(p, ids), gather1(p + 1, ids), gather1(p + 2, ids)}; }
+// Corner c of four triangles.
+TROCAR_AVX2 V3 corner(const Vec3* p, const Triangle* const (&t)[4], int c) {
+  return load4(p[(*t[0])[c]].data(), p[(*t[1])[c]].data(), p[(*t[2])[c]].data(), p[(*t[3])[c]].data());
+}
 TROCAR_AVX2 __m256d gt(__m256d a, __m256d b) { return _mm256_cmp_pd(a, b, _CMP_GT_OQ); }
 TROCAR_AVX2 __m256d both(__m256d a, __m256d b) { return _mm256_and_pd(a, b); }
 
@@ -81,15 +93,6 @@ TROCAR_AVX2 __m256d min3(const V3& a, __m256d lo_x, __m256d& lo_y, __m256d& lo_z
   return _mm256_min_pd(lo_x, a.x);
 }
 
-// The three corner offsets (3 × vertex id) of triangles `t` (four triangle indices).
-TROCAR_AVX2 void corner_ids(const Triangle* triangles, __m128i t, __m128i (&ids)[3]) {
-  const int* base = reinterpret_cast<const int*>(triangles);
-  const __m128i t3 = _mm_add_epi32(_mm_add_epi32(t, t), t);
-  for (int k = 0; k < 3; ++k) {
-    const __m128i v = _mm_mask_i32gather_epi32(_mm_setzero_si128(), base + k, t3, _mm_set1_epi32(-1), 4);
-    ids[k] = _mm_add_epi32(_mm_add_epi32(v, v), v);
-  }
-}
 
 // The projections on the line of the parts of a triangle within the slab |d| ≤ tau of the other
 // plane, edge by edge (as slab_interval in narrow_phase.cpp): [lo, hi] per lane.
@@ -136,22 +139,20 @@ struct Interval4 {
 
 __attribute__((target("avx2,fma"))) void reject4_avx2(const CollisionObject& oa, const CollisionObject& ob,
                                                            const CandidatePair* pairs, std::vector<Contact>& out) {
-  __m128i ia[3];
-  __m128i ib[3];
-  corner_ids(oa.triangles.data(), _mm_setr_epi32(static_cast<int>(pairs[0].triangle_a), static_cast<int>(pairs[1].triangle_a),
-                                                 static_cast<int>(pairs[2].triangle_a), static_cast<int>(pairs[3].triangle_a)),
-             ia);
-  corner_ids(ob.triangles.data(), _mm_setr_epi32(static_cast<int>(pairs[0].triangle_b), static_cast<int>(pairs[1].triangle_b),
-                                                 static_cast<int>(pairs[2].triangle_b), static_cast<int>(pairs[3].triangle_b)),
-             ib);
-  const double* pa = oa.positions.data()->data();
-  const double* pb = ob.positions.data()->data();
-  const V3 a0 = gather(pa, ia[0]);
-  const V3 ra1 = sub(gather(pa, ia[1]), a0);
-  const V3 ra2 = sub(gather(pa, ia[2]), a0);
-  const V3 rb0 = sub(gather(pb, ib[0]), a0);
-  const V3 rb1 = sub(gather(pb, ib[1]), a0);
-  const V3 rb2 = sub(gather(pb, ib[2]), a0);
+  const Vec3* pa = oa.positions.data();
+  const Vec3* pb = ob.positions.data();
+  const Triangle* ta[4];
+  const Triangle* tb[4];
+  for (int k = 0; k < 4; ++k) {
+    ta[k] = &oa.triangles[pairs[k].triangle_a];
+    tb[k] = &ob.triangles[pairs[k].triangle_b];
+  }
+  const V3 a0 = corner(pa, ta, 0);
+  const V3 ra1 = sub(corner(pa, ta, 1), a0);
+  const V3 ra2 = sub(corner(pa, ta, 2), a0);
+  const V3 rb0 = sub(corner(pb, tb, 0), a0);
+  const V3 rb1 = sub(corner(pb, tb, 1), a0);
+  const V3 rb2 = sub(corner(pb, tb, 2), a0);
 
   // The pair's size L (a0 is the origin, so 0 is one of the six corners).
   const __m256d zero = _mm256_setzero_pd();

@@ -14,15 +14,9 @@ void exact_candidate(const CollisionObject& oa, const CollisionObject& ob, const
                      std::vector<Contact>& out);
 
 /// The rejection tests for four candidates of the same object pair at once (AVX2 + FMA), then
-/// exact_candidate() on those they keep. Requires collision_cpu::avx2_fma() and counts that fit the 32-bit
-/// gathers (fits_gathers()).
+/// exact_candidate() on those they keep. Requires collision_cpu::avx2_fma().
 void reject4_avx2(const CollisionObject& oa, const CollisionObject& ob, const CandidatePair* pairs,
                   std::vector<Contact>& out);
 
-/// True when the object's vertex and triangle counts fit signed 32-bit gather offsets (3 × id).
-inline bool fits_gathers(const CollisionObject& o) {
-  constexpr std::size_t kLimit = 0x7fffffff / 3;
-  return o.positions.size() < kLimit && o.triangles.size() < kLimit;
-}
 
 }  // namespace trocar::narrow_detail
