@@ -15,7 +15,9 @@ namespace {
 // unit inward edge normals, or (degenerate) the segment s0s1 spanned by its longest edge.
 struct Primitive {
   bool is_triangle = false;
-  std::array<Vec3, 3> v;    // vertices (proper triangle)
+  // Vertices (proper triangle): the caller's three consecutive points, not a copy (copying
+  // 24-byte vectors and reading them back in 16-byte halves stalled store forwarding).
+  const Vec3* v = nullptr;
   Vec3 n;                   // unit normal (b−a)×(c−a)/|…|
   std::array<Real, 3> len2;  // squared edge lengths, edge k = v_k → v_k+1
   // m[k]: unit in-plane normal of edge k, pointing into the triangle. Only the in-plane tests
@@ -25,13 +27,12 @@ struct Primitive {
   Vec3 s0, s1;              // segment (degenerate)
 };
 
-Primitive make_primitive(const Vec3& a, const Vec3& b, const Vec3& c) {
+Primitive make_primitive(const Vec3* v) {
   Primitive t;
-  const std::array<Vec3, 3> v = {a, b, c};
   std::array<Real, 3> len2{};
   for (int k = 0; k < 3; ++k) len2[k] = (v[(k + 1) % 3] - v[k]).squaredNorm();
   const int longest = static_cast<int>(std::max_element(len2.begin(), len2.end()) - len2.begin());
-  const Vec3 cross = (b - a).cross(c - a);
+  const Vec3 cross = (v[1] - v[0]).cross(v[2] - v[0]);
   const Real area2_sq = cross.squaredNorm();  // (twice the area)²
   if (len2[longest] > 0 &&
       area2_sq > kDegenerateRatio * kDegenerateRatio * len2[longest] * len2[longest]) {
@@ -326,9 +327,9 @@ TriTriResult intersect_triangles(const Vec3& a0, const Vec3& a1, const Vec3& a2,
     const Real d2 = t.n.dot(x2 - t.v[0]);
     return (d0 > eps && d1 > eps && d2 > eps) || (d0 < -eps && d1 < -eps && d2 < -eps);
   };
-  const Primitive a = make_primitive(v[0], v[1], v[2]);
+  const Primitive a = make_primitive(v.data());
   if (a.is_triangle && strictly_one_side(a, v[3], v[4], v[5])) return {};
-  const Primitive b = make_primitive(v[3], v[4], v[5]);
+  const Primitive b = make_primitive(v.data() + 3);
   if (b.is_triangle && strictly_one_side(b, v[0], v[1], v[2])) return {};
   TriTriResult r;
   if (a.is_triangle && b.is_triangle) {
