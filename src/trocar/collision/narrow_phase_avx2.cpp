@@ -1,10 +1,12 @@
-// The narrow phase's plane stage for four candidates at once (AVX2 + FMA, chosen at run time).
-// Lane k holds candidate k: its corners are loaded from the positions, and the same tests as
-// the portable path (narrow_phase.cpp) run on all four — A's plane against B's corners, B's
-// plane against A's corners, each with the conservative 1e-9·L margin. Only the candidates
-// neither plane rejects go on, one by one, to the interval test and the exact test. FMA rounds
-// differently from the portable path, which the margins (far wider than either's rounding)
-// absorb: both paths reject only pairs the exact test rejects, so the contacts are the same.
+// The narrow phase's rejection tests for four candidates at once (AVX2 + FMA, chosen at run
+// time). Lane k holds candidate k: its corners are loaded from the positions, and the tests of
+// the portable path (narrow_phase.cpp) run on all four lanes — A's plane against B's corners, B's
+// plane against A's corners (each with the conservative 1e-9·L margin), then the interval test
+// on the line nA × nB (Möller, "A Fast Triangle-Triangle Intersection Test", JGT 1997, made
+// conservative as there). Only the candidates no test rejects go, one by one, to the exact test.
+// FMA and one reciprocal per edge round differently from the portable path by a few ulp, which
+// the margins (orders of magnitude wider) absorb: both paths reject only pairs the exact test
+// rejects, so the contacts are the same.
 #include <cstdlib>
 #include <limits>
 
@@ -87,13 +89,6 @@ TROCAR_AVX2 __m256d separated(const Plane4& p, __m256d d0, __m256d d1, __m256d d
   return both(both(p.well, _mm256_or_pd(above, below)), far);
 }
 
-TROCAR_AVX2 __m256d min3(const V3& a, __m256d lo_x, __m256d& lo_y, __m256d& lo_z) {
-  lo_y = _mm256_min_pd(lo_y, a.y);
-  lo_z = _mm256_min_pd(lo_z, a.z);
-  return _mm256_min_pd(lo_x, a.x);
-}
-
-
 // The projections on the line of the parts of a triangle within the slab |d| ≤ tau of the other
 // plane, edge by edge (as slab_interval in narrow_phase.cpp): [lo, hi] per lane.
 struct Interval4 {
@@ -156,10 +151,11 @@ __attribute__((target("avx2,fma"))) void reject4_avx2(const CollisionObject& oa,
 
   // The pair's size L (a0 is the origin, so 0 is one of the six corners).
   const __m256d zero = _mm256_setzero_pd();
-  __m256d lo_y = zero, lo_z = zero, hi_y = zero, hi_z = zero;
-  __m256d lo_x = zero, hi_x = zero;
+  __m256d lo_x = zero, lo_y = zero, lo_z = zero, hi_x = zero, hi_y = zero, hi_z = zero;
   for (const V3* c : {&ra1, &ra2, &rb0, &rb1, &rb2}) {
-    lo_x = min3(*c, lo_x, lo_y, lo_z);
+    lo_x = _mm256_min_pd(lo_x, c->x);
+    lo_y = _mm256_min_pd(lo_y, c->y);
+    lo_z = _mm256_min_pd(lo_z, c->z);
     hi_x = _mm256_max_pd(hi_x, c->x);
     hi_y = _mm256_max_pd(hi_y, c->y);
     hi_z = _mm256_max_pd(hi_z, c->z);

@@ -18,5 +18,4 @@ void exact_candidate(const CollisionObject& oa, const CollisionObject& ob, const
 void reject4_avx2(const CollisionObject& oa, const CollisionObject& ob, const CandidatePair* pairs,
                   std::vector<Contact>& out);
 
-
 }  // namespace trocar::narrow_detail
