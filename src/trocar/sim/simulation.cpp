@@ -258,11 +258,9 @@ void Simulation::deform(Real dt) {
 }
 
 void Simulation::measure() {
-  ForceTerms elastic;
-  elastic.gravity = false;
   for (const auto& tissue : world_.tissues) {
     metrics_.kinetic_energy += kinetic_energy(tissue->settings, tissue->state.velocities);
-    metrics_.elastic_energy += potential_energy(tissue->settings, tissue->state.positions, elastic);
+    metrics_.elastic_energy += tissue->energy.elastic(tissue->state.positions);
     if (!all_finite(tissue->state.positions) || !all_finite(tissue->state.velocities)) metrics_.finite = false;
     // The fastest speed as √(max |u|²): sqrt is monotonic, so the same bits as max |u|.
     Real speed_squared = 0;

@@ -9,7 +9,8 @@ TissueBody::TissueBody(std::string body_name, const TriMesh& world_mesh, const M
     : name(std::move(body_name)),
       settings(MassSpringSettings::build(world_mesh, material, fixed, gravity)),
       state(MassSpringState::at_rest(settings)),
-      integrator(settings, kind) {
+      integrator(settings, kind),
+      energy(settings) {
   // One ContactJacobian per applied contact; 8192 covers a tool buried in a fine mesh, so the
   // response does not grow the array inside a step.
   loads.reset(settings.vertex_count(), 8192);

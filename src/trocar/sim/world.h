@@ -11,6 +11,7 @@
 #include "trocar/tissue/integrator.h"
 #include "trocar/tissue/material.h"
 #include "trocar/tissue/settings.h"
+#include "trocar/tissue/energy.h"
 #include "trocar/tissue/state.h"
 
 namespace trocar {
@@ -22,6 +23,7 @@ struct TissueBody {
   MassSpringSettings settings;       ///< immutable model (metres, kg)
   MassSpringState state;             ///< positions (m) and velocities (m/s)
   MassSpringIntegrator integrator;   ///< steps `state`
+  ElasticEnergyMeter energy;         ///< the per-step elastic energy metric
   TissueLoads loads;                 ///< external forces of the current step (N)
 
   /// Builds the model from a mesh already placed in the world (metres).

@@ -67,6 +67,27 @@ Real volume_gradient_scalar(const Triangle* tris, std::size_t nt, const Padded3*
   return six_v;
 }
 
+/// Lane k's energy ½ k (|d| − l)², scalar.
+inline Real spring_energy_scalar(const SpringQuad& q, int k, const Padded3* x) {
+  const Padded3 &xi = x[q.i[k] / sizeof(Padded3)], &xj = x[q.j[k] / sizeof(Padded3)];
+  const Real dx = xj.x - xi.x, dy = xj.y - xi.y, dz = xj.z - xi.z;
+  const Real stretch = std::sqrt(dx * dx + dy * dy + dz * dz) - q.rest_length[k];
+  return 0.5 * q.stiffness[k] * stretch * stretch;
+}
+
+Real six_volume_scalar(const Triangle* tris, std::size_t nt, const Padded3* x) {
+  const Padded3 origin = x[tris[0][0]];
+  Real six_v = 0;
+  for (std::size_t t = 0; t < nt; ++t) {
+    const Padded3 &a = x[tris[t][0]], &b = x[tris[t][1]], &c = x[tris[t][2]];
+    const Real e0 = b.x - a.x, e1 = b.y - a.y, e2 = b.z - a.z;
+    const Real f0 = c.x - a.x, f1 = c.y - a.y, f2 = c.z - a.z;
+    six_v += (a.x - origin.x) * (e1 * f2 - e2 * f1) + (a.y - origin.y) * (e2 * f0 - e0 * f2) +
+             (a.z - origin.z) * (e0 * f1 - e1 * f0);
+  }
+  return six_v;
+}
+
 Real update_scalar(const MassSpringSettings& s, Vec3* x, Vec3* v, const UpdateInputs& in) {
   const std::size_t n = s.vertex_count();
   const Vec3* x0 = s.rest_positions.data();
@@ -135,6 +156,46 @@ TROCAR_AVX2 Real volume_gradient_avx2(const Triangle* tris, std::size_t nt, cons
     store(g[ia], _mm256_add_pd(load(g[ia]), n));
     store(g[ib], _mm256_add_pd(load(g[ib]), n));
     store(g[ic], _mm256_add_pd(load(g[ic]), n));
+  }
+  alignas(32) Real lanes[4];
+  _mm256_store_pd(lanes, six_v);
+  return lanes[0] + lanes[1] + lanes[2];
+}
+
+/// Σ ½ k (|d| − l)² for four springs at a time: d transposed into x, y, z rows, |d| by vsqrtpd.
+template <bool kStar>
+TROCAR_AVX2 __m256d spring_energy_avx2(const SpringQuad* quads, std::size_t count, const Padded3* x, __m256d sum) {
+  for (std::size_t q = 0; q < count; ++q) {
+    const SpringQuad& s = quads[q];
+    __m256d d[4];
+    if constexpr (kStar) {
+      const __m256d xi = load_at(x, s.i[0]);
+      for (int k = 0; k < 4; ++k) d[k] = _mm256_sub_pd(load_at(x, s.j[k]), xi);
+    } else {
+      for (int k = 0; k < 4; ++k) d[k] = _mm256_sub_pd(load_at(x, s.j[k]), load_at(x, s.i[k]));
+    }
+    __m256d dx, dy, dz;
+    transpose_rows(d, dx, dy, dz);
+    const __m256d len = _mm256_sqrt_pd(_mm256_fmadd_pd(dz, dz, _mm256_fmadd_pd(dy, dy, _mm256_mul_pd(dx, dx))));
+    const __m256d stretch = _mm256_sub_pd(len, _mm256_load_pd(s.rest_length));
+    sum = _mm256_fmadd_pd(_mm256_mul_pd(_mm256_load_pd(s.stiffness), stretch), stretch, sum);
+  }
+  return sum;
+}
+
+TROCAR_AVX2 Real spring_energy_avx2(const SpringLayout& layout, const Padded3* x) {
+  __m256d sum = spring_energy_avx2<true>(layout.stars.data(), layout.stars.size(), x, _mm256_setzero_pd());
+  sum = spring_energy_avx2<false>(layout.others.data(), layout.others.size(), x, sum);
+  return 0.5 * avx2::sum(sum);
+}
+
+TROCAR_AVX2 Real six_volume_avx2(const Triangle* tris, std::size_t nt, const Padded3* x) {
+  const __m256d origin = load(x[tris[0][0]]);
+  __m256d six_v = _mm256_setzero_pd();
+  for (std::size_t t = 0; t < nt; ++t) {
+    const __m256d a = load(x[tris[t][0]]);
+    const __m256d n = cross(_mm256_sub_pd(load(x[tris[t][1]]), a), _mm256_sub_pd(load(x[tris[t][2]]), a));
+    six_v = _mm256_fmadd_pd(_mm256_sub_pd(a, origin), n, six_v);
   }
   alignas(32) Real lanes[4];
   _mm256_store_pd(lanes, six_v);
@@ -285,6 +346,27 @@ Real add_volume_gradient(const MassSpringSettings& s, const Padded3* x, Padded3*
 #endif
   (void)use_avx2;
   return volume_gradient_scalar(s.triangles.data(), s.triangles.size(), x, g);
+}
+
+Real spring_energy_padded(const SpringLayout& layout, const Padded3* x, bool use_avx2) {
+#ifdef TROCAR_HAVE_X86
+  if (use_avx2) return spring_energy_avx2(layout, x);
+#endif
+  (void)use_avx2;
+  Real e = 0;
+  for (const std::vector<SpringQuad>* quads : {&layout.stars, &layout.others})
+    for (const SpringQuad& q : *quads)
+      for (int k = 0; k < 4; ++k) e += spring_energy_scalar(q, k, x);
+  return e;
+}
+
+Real six_volume_padded(const MassSpringSettings& s, const Padded3* x, bool use_avx2) {
+  if (s.triangles.empty()) return 0;
+#ifdef TROCAR_HAVE_X86
+  if (use_avx2) return six_volume_avx2(s.triangles.data(), s.triangles.size(), x);
+#endif
+  (void)use_avx2;
+  return six_volume_scalar(s.triangles.data(), s.triangles.size(), x);
 }
 
 Real explicit_update(const MassSpringSettings& s, Vec3* x, Vec3* v, const UpdateInputs& in, bool use_avx2) {

@@ -74,6 +74,13 @@ void add_area_forces(const MassSpringSettings& s, const Vec3* x, Padded3* f);
 /// first triangle's first vertex (forces.cpp's volume_of).
 Real add_volume_gradient(const MassSpringSettings& s, const Padded3* x, Padded3* g, bool use_avx2);
 
+/// Σ ½ k (|x_j − x_i| − l)² over the springs of `layout` (forces.cpp's spring_energy; null
+/// springs add 0).
+Real spring_energy_padded(const SpringLayout& layout, const Padded3* x, bool use_avx2);
+
+/// 6V about the first triangle's first vertex (forces.cpp's volume_of × 6).
+Real six_volume_padded(const MassSpringSettings& s, const Padded3* x, bool use_avx2);
+
 /// The per-vertex update of one explicit step, with the per-vertex forces folded in:
 ///   f = f_pair + f_ext + pressure6 · g + m (gravity − γ v) − k_home (x − x0),
 ///   v₁ = v + h f / m,  x₁ = x + h (symplectic ? v₁ : v).
