@@ -594,10 +594,27 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
   // Inclusive prefix sum: start[s] = end of slot s. Filling from the back turns it into the
   // beginning of slot s, and start[s + 1] (table: = entry_count) is its end.
   std::uint32_t running = 0;
+#if defined(__SSE2__)
+  // Four slots at a time (the table is a power of two ≥ 16): a prefix sum within the register by
+  // two shifted adds, plus the running total; the scalar loop is one long chain of dependent adds.
+  {
+    __m128i carry = _mm_setzero_si128();
+    for (std::size_t s = 0; s < table; s += 4) {
+      __m128i x = _mm_loadu_si128(reinterpret_cast<const __m128i*>(start + s));
+      x = _mm_add_epi32(x, _mm_slli_si128(x, 4));
+      x = _mm_add_epi32(x, _mm_slli_si128(x, 8));
+      x = _mm_add_epi32(x, carry);
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(start + s), x);
+      carry = _mm_shuffle_epi32(x, _MM_SHUFFLE(3, 3, 3, 3));
+    }
+    running = start[table - 1];
+  }
+#else
   for (std::size_t s = 0; s < table; ++s) {
     running += start[s];
     start[s] = running;
   }
+#endif
   start[table] = running;
   entries_.resize(entry_count);
   // emit_cell_pairs scratch, a cell's worth (the box arrays readable 3 past a cell's end).
