@@ -187,6 +187,23 @@ TEST(BroadPhaseAdversarial, TinyTriangleInHugeCell) {
   EXPECT_LE(static_cast<double>(stats.entries), 64.0 * stats.primitives_hashed + 64.0);
 }
 
+TEST(BroadPhaseAdversarial, HugeTrianglesAcrossTheClampedGrid) {
+  // Two crossing triangles 2e12 across with 1 m cells: their cell ranges are clamped to ±2^30, so
+  // a range spans 2^31 + 1 cells (past int32), and the budget doubles the cell many times.
+  Scene scene;
+  scene.add(one_triangle(Vec3(-1e12, -1e12, 0), Vec3(1e12, -1e12, 0), Vec3(0, 1e12, 0)), ObjectRole::kInstrument);
+  scene.add(one_triangle(Vec3(0, 0, -1e12), Vec3(1e12, 0, 1e12), Vec3(-1e12, 0, 1e12)), ObjectRole::kTissue);
+  const auto objects = scene.objects();
+  const auto reference = test::contacts_with(BroadPhaseKind::kBruteForce, objects);
+  ASSERT_EQ(reference.size(), 1u);
+  OhcSettings settings;
+  settings.cell_size = 1.0;
+  CollisionDetector ohc(settings);
+  const auto found = ohc.detect(objects);
+  test::expect_same_contacts(reference, {found.begin(), found.end()}, "huge");
+  EXPECT_GT(ohc.ohc_stats()->cell_size, 1e6);
+}
+
 TEST(BroadPhaseAdversarial, ObjectsFarApart) {
   Scene scene;
   scene.add(make_icosphere(1.0, 2), ObjectRole::kInstrument);

@@ -547,7 +547,7 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
       cell_range(prim, inv_h);
       Real cells = 1;
       for (int k = 0; k < 3; ++k) {
-        cells *= static_cast<Real>(prim.hi[k] - prim.lo[k]) + 1;
+        cells *= static_cast<Real>(static_cast<std::int64_t>(prim.hi[k]) - prim.lo[k]) + 1;  // up to 2^31 + 1
         grid_lo[k] = std::min(grid_lo[k], prim.lo[k]);
         grid_hi[k] = std::max(grid_hi[k], prim.hi[k]);
       }
