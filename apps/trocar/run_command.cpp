@@ -169,6 +169,7 @@ void run(const Options& o) {
   nlohmann::json report = {
       {"scene", scene.name},
       {"method", response_method_name(sim.settings().response.method)},
+      {"depth_cap", sim.settings().response.depth_cap},
       {"steps", done},
       {"timestep_s", dt},
       {"sim_time_s", sim.time()},

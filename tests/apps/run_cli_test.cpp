@@ -76,6 +76,7 @@ TEST_F(RunCli, WritesAValidReportAndRecording) {
   std::ifstream in3(path("r3.json"));
   const auto j3 = nlohmann::json::parse(in3);
   EXPECT_EQ(j3["method"], "normal");
+  EXPECT_EQ(j3["depth_cap"], true);  // the default (docs/response.md "Depth cap")
   EXPECT_EQ(j3["steps"], 50);
 }
 

@@ -200,7 +200,7 @@ ContactResponse respond_contact(const ContactTriangles& tri, const Obb& box, con
         const Real local = -std::min({d[0], d[1], d[2]}) * inv_len;
         r.depth_capped = depth > local;
         if (r.depth_capped) {
-          dvec *= depth > 0 ? local / depth : Real{0};
+          dvec *= local / depth;  // depth > local > 0 (some d_i < 0)
           depth = local;
         }
       }

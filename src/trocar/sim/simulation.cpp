@@ -127,15 +127,22 @@ Simulation::Simulation(World world, const SimulationSettings& settings)
   distances_.resize(nt);
   start_distances_.resize(nt);
   start_positions_.resize(nt);
+  sheets_.resize(nt);
   if (settings_.measure_penetration)
-    for (std::size_t t = 0; t < nt; ++t)
-      if (world_.tissues[t]->settings.closed) {
-        distances_[t] = std::make_unique<MeshDistance>(world_.tissues[t]->state.positions,
-                                                       world_.tissues[t]->settings.triangles);
-        start_distances_[t] = std::make_unique<MeshDistance>(world_.tissues[t]->state.positions,
-                                                             world_.tissues[t]->settings.triangles);
-        start_positions_[t] = world_.tissues[t]->state.positions;
-      }
+    for (std::size_t t = 0; t < nt; ++t) {
+      const TissueBody& tissue = *world_.tissues[t];
+      if (tissue.settings.triangles.empty()) continue;
+      distances_[t] = std::make_unique<MeshDistance>(tissue.state.positions, tissue.settings.triangles);
+      start_distances_[t] = std::make_unique<MeshDistance>(tissue.state.positions, tissue.settings.triangles);
+      start_positions_[t] = tissue.state.positions;
+      if (!tissue.settings.closed) sheets_[t] = SheetBoundary(tissue.state.positions, tissue.settings.triangles);
+    }
+  reach_.resize(ni);
+  for (std::size_t i = 0; i < ni; ++i) {
+    const Instrument& instrument = world_.instruments[i].instrument;
+    for (const Vec3& p : instrument.world_positions())
+      reach_[i] = std::max(reach_[i], (p - instrument.pose().translation).norm());
+  }
   previous_distance_.resize(ni * nt);
   nearest_triangle_.resize(ni * nt);
   touched_.resize(ni);
@@ -167,6 +174,7 @@ const StepMetrics& Simulation::step(Real dt) {
 
   Timer stage;
   time_ += dt;
+  dt_ = dt;
   for (InstrumentBody& body : world_.instruments) {
     const MotionSample s = body.motion.sample(time_);
     body.instrument.move_to(s.pose, dt);
@@ -276,16 +284,24 @@ void Simulation::measure_penetration(std::size_t t) {
   const std::size_t ni = world_.instruments.size();
   const std::size_t nt = world_.tissues.size();
   const TissueBody& tissue = *world_.tissues[t];
-  // A point outside the box of a closed surface's vertices is outside the surface.
-  const Aabb inside_box = Aabb::of_points(tissue.state.positions).inflated(kBoxSlack);
+  const bool sheet = !tissue.settings.closed;
+  // A point outside the box of a closed surface's vertices is outside the surface. Near a
+  // sheet, the box grows by how far any vertex can have moved this step and the last (the
+  // instrument's rigid motion, the fastest tissue vertex) and by the instrument's thickness:
+  // a vertex that crossed the sheet is then measured on both sides of it.
+  const Aabb tissue_box = Aabb::of_points(tissue.state.positions).inflated(kBoxSlack);
   bool refitted = false;
   start_refitted_ = false;
   for (std::size_t i = 0; i < ni; ++i) {
     const InstrumentBody& body = world_.instruments[i];
+    const Instrument& instrument = body.instrument;
+    const Real moved = (instrument.linear_velocity().norm() + instrument.angular_velocity().norm() * reach_[i] +
+                        metrics_.max_speed) * dt_;
+    const Aabb inside_box = sheet ? tissue_box.inflated(2 * moved + body.thickness) : tissue_box;
     // No vertex in the box: all outside, no refit and no query (an instrument on its way in).
-    if (!inside_box.overlaps(body.instrument.world_obb().bounds()) ||
-        !any_inside(body.instrument.world_positions(), inside_box)) {
-      std::fill(previous_distance_[i * nt + t].begin(), previous_distance_[i * nt + t].end(), kOutside);
+    if (!inside_box.overlaps(instrument.world_obb().bounds()) || !any_inside(instrument.world_positions(), inside_box)) {
+      std::fill(previous_distance_[i * nt + t].begin(), previous_distance_[i * nt + t].end(),
+                sheet ? kUnknown : kOutside);
       continue;
     }
     if (!refitted) {
@@ -303,19 +319,23 @@ void Simulation::measure_penetration(std::size_t t) {
       if (c.kind != ContactKind::kInstrumentTissue || c.object_a != i || c.object_b != ni + t) continue;
       for (std::uint32_t v : body.instrument.triangles()[c.triangle_a]) touched[v] = 1;
     }
-    measure_pair(i, t, inside_box);
+    measure_pair(i, t, inside_box, sheet);
   }
 }
 
-void Simulation::measure_pair(std::size_t i, std::size_t t, const Aabb& inside_box) {
+void Simulation::measure_pair(std::size_t i, std::size_t t, const Aabb& inside_box, bool sheet) {
   const std::size_t nt = world_.tissues.size();
   const InstrumentBody& body = world_.instruments[i];
   std::span<const Vec3> points = body.instrument.world_positions();
   std::vector<Real>& previous = previous_distance_[i * nt + t];
   std::vector<std::uint32_t>& nearest = nearest_triangle_[i * nt + t];
-  const auto record = [&](std::uint32_t v, Real d) {
-    if (d < 0) count_inside(body, i, t, v, d);
-    previous[v] = d;
+  const auto record = [&](std::uint32_t v, const SignedDistanceResult& r) {
+    if (sheet) {
+      previous[v] = sheet_side(body, i, t, v, r);
+      return;
+    }
+    if (r.distance < 0) count_inside(body, i, t, v, r.distance);
+    previous[v] = r.distance;
   };
   QueryBatch batch;
   const auto flush = [&] {
@@ -324,13 +344,13 @@ void Simulation::measure_pair(std::size_t i, std::size_t t, const Aabb& inside_b
                                     std::span(batch.results).first(n), query_scratch_);
     for (std::size_t k = 0; k < n; ++k) {
       nearest[batch.vertices[k]] = batch.hints[k];
-      record(batch.vertices[k], batch.results[k].distance);
+      record(batch.vertices[k], batch.results[k]);
     }
     batch.count = 0;
   };
   for (const std::uint32_t v : query_order_[i]) {
     if (!inside_box.contains(points[v])) {
-      record(v, kOutside);
+      previous[v] = sheet ? kUnknown : kOutside;
       continue;
     }
     batch.points[batch.count] = points[v];

@@ -13,6 +13,7 @@
 #include "trocar/geometry/signed_distance.h"
 #include "trocar/response/response_solver.h"
 #include "trocar/response/settings.h"
+#include "trocar/sim/sheet_boundary.h"
 #include "trocar/sim/world.h"
 
 namespace trocar {
@@ -118,8 +119,14 @@ class Simulation {
   void deform(Real dt);
   void measure();
   void measure_penetration(std::size_t tissue);
-  /// Queries the instrument's vertices in inside_box (the tissue's box, grown by 1 nm).
-  void measure_pair(std::size_t instrument, std::size_t tissue, const Aabb& inside_box);
+  /// Queries the instrument's vertices in inside_box (the tissue's box, grown by 1 nm; for a
+  /// sheet, by the step's motion too).
+  void measure_pair(std::size_t instrument, std::size_t tissue, const Aabb& inside_box, bool sheet);
+  /// For an open tissue (sheet_crossing.cpp): counts vertex v's tunneling event if it changed
+  /// sides of the sheet on its own this step without a contact, and returns the distance to
+  /// keep for it (NaN, side unknown, when its closest feature is on the sheet's border).
+  Real sheet_side(const InstrumentBody& body, std::size_t instrument, std::size_t tissue, std::uint32_t v,
+                  const SignedDistanceResult& r);
   /// Counts vertex v of an instrument, at signed distance d < 0 inside a tissue, and its
   /// tunneling event if any.
   void count_inside(const InstrumentBody& body, std::size_t instrument, std::size_t tissue,
@@ -135,8 +142,11 @@ class Simulation {
   std::vector<Contact> contacts_;            ///< this step's contacts
   std::vector<ResponseSolver> solvers_;      ///< per (instrument, tissue) pair
   std::vector<InstrumentMetrics> instrument_metrics_;
-  std::vector<std::unique_ptr<MeshDistance>> distances_;  ///< per tissue (null when open)
-  /// Per closed tissue: its positions before this step's deformation (the surface the
+  std::vector<std::unique_ptr<MeshDistance>> distances_;  ///< per tissue (null without metrics)
+  std::vector<SheetBoundary> sheets_;  ///< per tissue: the border of an open one (empty when closed)
+  std::vector<Real> reach_;            ///< per instrument: farthest vertex from its pose origin (m)
+  Real dt_ = 0;                        ///< this step's dt (s)
+  /// Per measured tissue: its positions before this step's deformation (the surface the
   /// detection saw) and a MeshDistance for them, used only when a tunneling candidate asks. The
   /// two MeshDistances swap at each refit, so this one holds the previous refit's surface; it
   /// is refitted only when that is not bit-identical to start_positions_ (e.g. after a step

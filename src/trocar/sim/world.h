@@ -8,10 +8,10 @@
 #include "trocar/instrument/instrument.h"
 #include "trocar/mesh/tri_mesh.h"
 #include "trocar/sim/motion.h"
+#include "trocar/tissue/energy.h"
 #include "trocar/tissue/integrator.h"
 #include "trocar/tissue/material.h"
 #include "trocar/tissue/settings.h"
-#include "trocar/tissue/energy.h"
 #include "trocar/tissue/state.h"
 
 namespace trocar {
