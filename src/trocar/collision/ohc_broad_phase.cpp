@@ -1,12 +1,12 @@
 #include "trocar/collision/ohc_broad_phase.h"
 
-#include "trocar/collision/cpu_features.h"
-
 #include <algorithm>
 #include <bit>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+
+#include "trocar/collision/cpu_features.h"
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
