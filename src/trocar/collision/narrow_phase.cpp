@@ -5,8 +5,8 @@
 #include <cstdint>
 #include <limits>
 
-#include "trocar/collision/cpu_features.h"
 #include "trocar/collision/narrow_phase_detail.h"
+#include "trocar/core/cpu_features.h"
 #include "trocar/geometry/triangle_triangle.h"
 
 namespace trocar {
@@ -224,7 +224,7 @@ void narrow_phase(std::span<const CollisionObject> objects, std::span<const Cand
                   std::vector<Contact>& out, bool allow_simd) {
   using namespace narrow_detail;
   out.clear();
-  const bool simd = allow_simd && collision_cpu::avx2_fma();
+  const bool simd = allow_simd && cpu_has_avx2_fma();
   ScalarStage scalar;
   PlaneStage s;
   for (std::size_t k = 0; k < pairs.size();) {

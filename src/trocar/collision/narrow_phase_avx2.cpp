@@ -215,7 +215,7 @@ __attribute__((target("avx2,fma"))) void reject4_avx2(const CollisionObject& oa,
 #else
 
 void reject4_avx2(const CollisionObject&, const CollisionObject&, const CandidatePair*, std::vector<Contact>&) {
-  std::abort();  // never called: collision_cpu::avx2_fma() is false
+  std::abort();  // never called: cpu_has_avx2_fma() is false
 }
 
 #endif

@@ -14,7 +14,7 @@ void exact_candidate(const CollisionObject& oa, const CollisionObject& ob, const
                      std::vector<Contact>& out);
 
 /// The rejection tests for four candidates of the same object pair at once (AVX2 + FMA), then
-/// exact_candidate() on those they keep. Requires collision_cpu::avx2_fma().
+/// exact_candidate() on those they keep. Requires cpu_has_avx2_fma().
 void reject4_avx2(const CollisionObject& oa, const CollisionObject& ob, const CandidatePair* pairs,
                   std::vector<Contact>& out);
 

@@ -6,7 +6,7 @@
 #include <limits>
 #include <stdexcept>
 
-#include "trocar/collision/cpu_features.h"
+#include "trocar/core/cpu_features.h"
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -307,7 +307,7 @@ Aabb OhcBroadPhase::refit_clusters(ObjectClusters& c, const CollisionObject& obj
   Real group_hi[3] = {-kInf, -kInf, -kInf};
   std::size_t first_sse_cluster = 0;  // all clusters when the AVX2 path ran
 #if defined(TROCAR_OHC_AVX2)
-  if (simd && collision_cpu::avx2()) {
+  if (simd && cpu_has_avx2()) {
     if (object.positions.size() > kRefitPrefetchVertices) {
       refit_boxes_avx2<true>(p, ids, c.vertex_start.data(), c.boxes.size(), c.boxes.data(), c.groups.data(), olo,
                              ohi);

@@ -3,8 +3,8 @@
 // run time) or one by one.
 #include <cstdint>
 
-#include "trocar/collision/cpu_features.h"
 #include "trocar/collision/ohc_broad_phase.h"
+#include "trocar/core/cpu_features.h"
 
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>
@@ -100,7 +100,7 @@ void OhcBroadPhase::emit_cell_pairs(std::span<const Entry> cell, std::span<const
   const Real* const clo[3] = {lo[0], lo[1], lo[2]};
   const Real* const chi[3] = {hi[0], hi[1], hi[2]};
 #if defined(__x86_64__) && defined(__GNUC__)
-  const bool avx2 = settings_.simd && collision_cpu::avx2();
+  const bool avx2 = settings_.simd && cpu_has_avx2();
 #endif
   std::uint32_t* hits = cell_hits_.data();
   for (std::uint32_t g = 0; g + 1 < group_count; ++g) {

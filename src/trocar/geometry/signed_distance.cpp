@@ -5,6 +5,7 @@
 #include <string>
 #include <tuple>
 
+#include "trocar/core/cpu_features.h"
 #include "trocar/core/error.h"
 
 namespace trocar {
@@ -64,11 +65,6 @@ void box_gaps_portable(const Real* const lo[3], const Real* const hi[3], const V
 __attribute__((target("avx2"))) void box_gaps_avx2(const Real* const lo[3], const Real* const hi[3],
                                                    const Vec3& p, std::size_t count, Real* gap) {
   box_gaps(lo, hi, p, count, gap);
-}
-
-bool cpu_has_avx2() {
-  static const bool has = __builtin_cpu_supports("avx2");
-  return has;
 }
 #endif
 
@@ -216,19 +212,25 @@ SignedDistanceResult MeshDistance::signed_distance(const Vec3& p, std::uint32_t 
   tree_.nearest(p, best, [&](std::uint32_t t, Real& best_sq) {
     // A triangle lies in its box and beside its plane: one no nearer than the bound by either
     // cannot win (the cheap tests skip most closest-point computations).
-    if (!(AabbTree::distance_squared(boxes_[t], p) < best_sq)) return;
-    const Triangle& tri = triangles_[t];
-    if (plane_is_no_nearer(p, positions_[tri[0]], positions_[tri[1]], positions_[tri[2]], best_sq)) return;
-    const TriangleClosestPoint c =
-        closest_point_on_triangle(p, positions_[tri[0]], positions_[tri[1]], positions_[tri[2]]);
-    const Real d2 = (p - c.point).squaredNorm();
-    if (d2 < best_sq) {
-      best_sq = d2;
-      best_t = t;
-      best_c = c;
-    }
+    if (AabbTree::distance_squared(boxes_[t], p) < best_sq) offer(p, t, best_sq, best_t, best_c);
   });
   return finish(p, best_t, best_c, best);
+}
+
+void MeshDistance::offer(const Vec3& p, std::uint32_t t, Real& best_sq, std::uint32_t& best_t,
+                         TriangleClosestPoint& best_c) const {
+  const Triangle& tri = triangles_[t];
+  const Vec3& a = positions_[tri[0]];
+  const Vec3& b = positions_[tri[1]];
+  const Vec3& c = positions_[tri[2]];
+  if (plane_is_no_nearer(p, a, b, c, best_sq)) return;
+  const TriangleClosestPoint q = closest_point_on_triangle(p, a, b, c);
+  const Real d2 = (p - q.point).squaredNorm();
+  if (d2 < best_sq) {
+    best_sq = d2;
+    best_t = t;
+    best_c = q;
+  }
 }
 
 MeshDistance::BatchScratch::BatchScratch(std::size_t triangles) : ids_(triangles), gap_(triangles) {
@@ -311,17 +313,7 @@ SignedDistanceResult MeshDistance::nearest_among(const Vec3& p, const SignedDist
   best_c.feature = seed.feature;
   best_c.index = seed.feature_index;
   for (std::size_t j = 0; j < count; ++j) {
-    if (!(gap[j] < best)) continue;
-    const std::uint32_t t = scratch.ids_[j];
-    const Triangle& tri = triangles_[t];
-    if (plane_is_no_nearer(p, positions_[tri[0]], positions_[tri[1]], positions_[tri[2]], best)) continue;
-    const TriangleClosestPoint c = closest_point_on_triangle(p, positions_[tri[0]], positions_[tri[1]], positions_[tri[2]]);
-    const Real d2 = (p - c.point).squaredNorm();
-    if (d2 < best) {
-      best = d2;
-      best_t = t;
-      best_c = c;
-    }
+    if (gap[j] < best) offer(p, scratch.ids_[j], best, best_t, best_c);
   }
   return finish(p, best_t, best_c, best);
 }

@@ -106,6 +106,9 @@ class MeshDistance {
   Vec3 weighted_corner_normal(std::uint32_t t, std::size_t k, const Vec3& n) const;
   SignedDistanceResult finish(const Vec3& p, std::uint32_t t, const TriangleClosestPoint& c,
                               Real d2) const;
+  /// Offers triangle t as p's nearest: when its plane is no nearer than best_sq nothing changes,
+  /// else its closest point replaces best (best_sq, best_t, best_c) if nearer.
+  void offer(const Vec3& p, std::uint32_t t, Real& best_sq, std::uint32_t& best_t, TriangleClosestPoint& best_c) const;
   /// p's nearest triangle among the first `count` candidates in scratch, starting from seed
   /// (whose distance field holds the squared distance).
   SignedDistanceResult nearest_among(const Vec3& p, const SignedDistanceResult& seed,

@@ -5,7 +5,6 @@
 // vertex can go around the edge) or the vertex is away from the sheet. No penetration depth is
 // measured on sheets (docs/scene.md).
 #include <cmath>
-#include <cstring>
 #include <limits>
 
 #include "trocar/sim/simulation.h"
@@ -28,16 +27,8 @@ Real Simulation::sheet_side(const InstrumentBody& body, std::size_t i, std::size
   // Did the vertex cross the surface the detection saw (the tissue's positions before this
   // step's deformation), or did the sheet move over a vertex after the response (answered by
   // the next detection, as for closed tissues)?
-  if (!start_refitted_) {
-    // Normally still the previous refit's surface, which is this step's start (see simulation.h).
-    const std::span<const Vec3> held = start_distances_[t]->positions();
-    const std::vector<Vec3>& start = start_positions_[t];
-    if (held.size() != start.size() || std::memcmp(held.data(), start.data(), held.size_bytes()) != 0)
-      start_distances_[t]->refit(start);
-    start_refitted_ = true;
-  }
   const Vec3& p = body.instrument.world_positions()[v];
-  const SignedDistanceResult at_start = start_distances_[t]->signed_distance(p, r.triangle);
+  const SignedDistanceResult at_start = start_surface(t).signed_distance(p, r.triangle);
   const bool start_border = at_start.triangle >= triangles.size() ||
                             border.on_boundary(at_start.triangle, triangles[at_start.triangle], at_start.feature,
                                                at_start.feature_index);

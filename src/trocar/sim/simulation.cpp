@@ -361,6 +361,15 @@ void Simulation::measure_pair(std::size_t i, std::size_t t, const Aabb& inside_b
   if (batch.count > 0) flush();
 }
 
+const MeshDistance& Simulation::start_surface(std::size_t t) {
+  if (!start_refitted_) {
+    // Normally still the previous refit's surface, which is this step's start (simulation.h).
+    if (!same_bits(start_distances_[t]->positions(), start_positions_[t])) start_distances_[t]->refit(start_positions_[t]);
+    start_refitted_ = true;
+  }
+  return *start_distances_[t];
+}
+
 void Simulation::count_inside(const InstrumentBody& body, std::size_t i, std::size_t t, std::uint32_t v, Real d) {
   const std::size_t nt = world_.tissues.size();
   const Real prev = previous_distance_[i * nt + t][v];
@@ -371,12 +380,8 @@ void Simulation::count_inside(const InstrumentBody& body, std::size_t i, std::si
     // Did the vertex's own motion carry it across, i.e. is it inside the surface as the
     // detection saw it? Otherwise the tissue moved over it after the response (a
     // spring-back onto the tool, answered by the next detection), not a miss.
-    if (!start_refitted_) {
-      if (!same_bits(start_distances_[t]->positions(), start_positions_[t])) start_distances_[t]->refit(start_positions_[t]);
-      start_refitted_ = true;
-    }
     const Vec3& p = body.instrument.world_positions()[v];
-    crossed = start_distances_[t]->signed_distance(p, nearest_triangle_[i * nt + t][v]).distance < 0;
+    crossed = start_surface(t).signed_distance(p, nearest_triangle_[i * nt + t][v]).distance < 0;
   }
   if (crossed) {
     ++metrics_.tunneling_events;  // (a) crossed the surface with no contact seen

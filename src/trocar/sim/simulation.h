@@ -127,6 +127,9 @@ class Simulation {
   /// keep for it (NaN, side unknown, when its closest feature is on the sheet's border).
   Real sheet_side(const InstrumentBody& body, std::size_t instrument, std::size_t tissue, std::uint32_t v,
                   const SignedDistanceResult& r);
+  /// Tissue t's surface as this step's detection saw it (start_distances_, refitted to
+  /// start_positions_ once per tissue measurement when it differs).
+  const MeshDistance& start_surface(std::size_t tissue);
   /// Counts vertex v of an instrument, at signed distance d < 0 inside a tissue, and its
   /// tunneling event if any.
   void count_inside(const InstrumentBody& body, std::size_t instrument, std::size_t tissue,

@@ -11,7 +11,7 @@ ElasticEnergyMeter::ElasticEnergyMeter(const MassSpringSettings& settings) : set
   springs_ = tissue_detail::make_spring_layout(settings.springs, settings.vertex_count());
   arrays_.allocate(settings.vertex_count(), 1);
   x_ = arrays_[0];
-  use_avx2_ = tissue_detail::cpu_has_avx2_fma();
+  use_avx2_ = cpu_has_avx2_fma();
 }
 
 Real ElasticEnergyMeter::elastic(std::span<const Vec3> x) {
@@ -25,10 +25,8 @@ Real ElasticEnergyMeter::elastic(std::span<const Vec3> x) {
   others.gravity = false;
   others.global_damping = false;
   e += potential_energy(s, x, others);
-  if (tissue_detail::volume_term_on(s, ForceTerms{}) && !s.triangles.empty()) {
-    const Real dv = tissue_detail::six_volume_padded(s, x_.data(), use_avx2_) / 6.0 - s.rest_volume;
-    e += 0.5 * s.k_volume / s.rest_volume * dv * dv;
-  }
+  if (tissue_detail::volume_term_on(s, ForceTerms{}))
+    e += tissue_detail::volume_energy(s, tissue_detail::six_volume_padded(s, x_.data(), use_avx2_) / 6.0);
   return e;
 }
 

@@ -22,7 +22,7 @@ class ElasticEnergyMeter {
   Real elastic(std::span<const Vec3> x);
 
   /// Runs the portable passes even where the CPU has AVX2 (for tests and comparisons).
-  void set_simd(bool on) { use_avx2_ = on && tissue_detail::cpu_has_avx2_fma(); }
+  void set_simd(bool on) { use_avx2_ = on && cpu_has_avx2_fma(); }
 
  private:
   const MassSpringSettings& settings_;

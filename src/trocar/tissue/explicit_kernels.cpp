@@ -16,9 +16,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <string>
-#include <string_view>
 
 #include "trocar/core/error.h"
 #include "trocar/tissue/avx2.h"
@@ -305,17 +303,6 @@ void PaddedArrays::allocate(std::size_t n, std::size_t count) {
   n_ = n;
   stride_ = (n + kPerPage - 1) / kPerPage * kPerPage + kStagger;
   storage_.assign(stride_ * count, Padded3{});
-}
-
-bool cpu_has_avx2_fma() {
-#ifdef TROCAR_HAVE_X86
-  // TROCAR_SIMD=off forces the portable passes everywhere (to compare, or to rule them out).
-  static const bool has = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") &&
-                          !(std::getenv("TROCAR_SIMD") != nullptr && std::string_view(std::getenv("TROCAR_SIMD")) == "off");
-  return has;
-#else
-  return false;
-#endif
 }
 
 void copy_padded(const Vec3* p, std::size_t n, Padded3* out) {

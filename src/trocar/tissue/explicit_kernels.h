@@ -7,6 +7,7 @@
 #include <span>
 #include <vector>
 
+#include "trocar/core/cpu_features.h"
 #include "trocar/core/types.h"
 #include "trocar/tissue/settings.h"
 
@@ -56,9 +57,6 @@ struct SpringLayout {
   std::vector<SpringQuad> others;
 };
 SpringLayout make_spring_layout(const std::vector<Spring>& springs, std::size_t vertex_count);
-
-/// True when the running CPU has AVX2 and FMA (checked once).
-bool cpu_has_avx2_fma();
 
 /// out_i = (p_i, 0) for n vectors.
 void copy_padded(const Vec3* p, std::size_t n, Padded3* out);

@@ -275,10 +275,7 @@ Real potential_energy(const MassSpringSettings& s, std::span<const Vec3> x, cons
     }
     e += 0.5 * s.k_area / s.mean_rest_area * sum;
   }
-  if (volume_term_on(s, terms) && !s.triangles.empty()) {
-    const Real dv = volume_of(s, xp) - s.rest_volume;
-    e += 0.5 * s.k_volume / s.rest_volume * dv * dv;
-  }
+  if (volume_term_on(s, terms)) e += volume_energy(s, volume_of(s, xp));
   if (terms.home && s.k_home != 0) {
     Real sum = 0;
     for (std::size_t i = 0; i < x.size(); ++i) sum += (xp[i] - s.rest_positions[i]).squaredNorm();

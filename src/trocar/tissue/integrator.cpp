@@ -38,7 +38,7 @@ MassSpringIntegrator::MassSpringIntegrator(const MassSpringSettings& settings, I
     if (settings.fixed[i]) fixed_indices_.push_back(static_cast<std::uint32_t>(i));
   }
   fixed_positions_.assign(fixed_indices_.size(), Vec3::Zero());
-  use_avx2_ = tissue_detail::cpu_has_avx2_fma();
+  use_avx2_ = cpu_has_avx2_fma();
   if (kind != IntegratorKind::kImplicitEuler) {
     padded_.allocate(n, 5);
     pair_forces_ = padded_[0];

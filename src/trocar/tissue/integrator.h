@@ -57,7 +57,7 @@ class MassSpringIntegrator {
   ForceTerms& terms() { return terms_; }  ///< which force terms are on (all by default)
   /// Whether the AVX2+FMA passes run (default: when the CPU has them). Off forces the portable
   /// scalar passes, e.g. to compare the two; on is ignored where the CPU lacks AVX2/FMA.
-  void set_simd(bool on) { use_avx2_ = on && tissue_detail::cpu_has_avx2_fma(); }
+  void set_simd(bool on) { use_avx2_ = on && cpu_has_avx2_fma(); }
   bool simd() const { return use_avx2_; }
 
  private:

@@ -28,6 +28,12 @@ inline bool volume_term_on(const MassSpringSettings& s, const ForceTerms& t) {
   return t.volume && s.closed && s.k_volume > 0 && s.rest_volume > 0 && !s.triangles.empty();
 }
 
+/// The volume term's energy ½ k_volume (V − V0)²/V0 at volume V (J).
+inline Real volume_energy(const MassSpringSettings& s, Real volume) {
+  const Real dv = volume - s.rest_volume;
+  return 0.5 * s.k_volume / s.rest_volume * dv * dv;
+}
+
 /// A plain 3-vector for the hot loops. Eigen's Vec3 arithmetic packs (x, y) into an SSE register
 /// and, for values computed lane by lane (cross products), builds that packet through the stack,
 /// which stalls store forwarding (measured: the area pass ran 2.5× slower). Scalar code avoids it.

@@ -1,9 +1,9 @@
-#include "trocar/collision/cpu_features.h"
+#include "trocar/core/cpu_features.h"
 
 #include <cstdlib>
 #include <string_view>
 
-namespace trocar::collision_cpu {
+namespace trocar {
 namespace {
 
 bool simd_allowed() {
@@ -13,7 +13,7 @@ bool simd_allowed() {
 
 }  // namespace
 
-bool avx2() {
+bool cpu_has_avx2() {
 #if defined(__x86_64__) && defined(__GNUC__)
   static const bool has = __builtin_cpu_supports("avx2") && simd_allowed();
   return has;
@@ -22,13 +22,13 @@ bool avx2() {
 #endif
 }
 
-bool avx2_fma() {
+bool cpu_has_avx2_fma() {
 #if defined(__x86_64__) && defined(__GNUC__)
-  static const bool has = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") && simd_allowed();
+  static const bool has = cpu_has_avx2() && __builtin_cpu_supports("fma");
   return has;
 #else
   return false;
 #endif
 }
 
-}  // namespace trocar::collision_cpu
+}  // namespace trocar
