@@ -197,6 +197,23 @@ SignedDistanceResult MeshDistance::finish(const Vec3& p, std::uint32_t t,
   return r;
 }
 
+// Inlined: it is the inner loop of both searches.
+[[gnu::always_inline]] inline void MeshDistance::offer(const Vec3& p, std::uint32_t t, Real& best_sq, std::uint32_t& best_t,
+                                                       TriangleClosestPoint& best_c) const {
+  const Triangle& tri = triangles_[t];
+  const Vec3& a = positions_[tri[0]];
+  const Vec3& b = positions_[tri[1]];
+  const Vec3& c = positions_[tri[2]];
+  if (plane_is_no_nearer(p, a, b, c, best_sq)) return;
+  const TriangleClosestPoint q = closest_point_on_triangle(p, a, b, c);
+  const Real d2 = (p - q.point).squaredNorm();
+  if (d2 < best_sq) {
+    best_sq = d2;
+    best_t = t;
+    best_c = q;
+  }
+}
+
 SignedDistanceResult MeshDistance::signed_distance(const Vec3& p, std::uint32_t hint) const {
   Real best = std::numeric_limits<Real>::infinity();
   std::uint32_t best_t = kNoTriangle;
@@ -215,22 +232,6 @@ SignedDistanceResult MeshDistance::signed_distance(const Vec3& p, std::uint32_t 
     if (AabbTree::distance_squared(boxes_[t], p) < best_sq) offer(p, t, best_sq, best_t, best_c);
   });
   return finish(p, best_t, best_c, best);
-}
-
-void MeshDistance::offer(const Vec3& p, std::uint32_t t, Real& best_sq, std::uint32_t& best_t,
-                         TriangleClosestPoint& best_c) const {
-  const Triangle& tri = triangles_[t];
-  const Vec3& a = positions_[tri[0]];
-  const Vec3& b = positions_[tri[1]];
-  const Vec3& c = positions_[tri[2]];
-  if (plane_is_no_nearer(p, a, b, c, best_sq)) return;
-  const TriangleClosestPoint q = closest_point_on_triangle(p, a, b, c);
-  const Real d2 = (p - q.point).squaredNorm();
-  if (d2 < best_sq) {
-    best_sq = d2;
-    best_t = t;
-    best_c = q;
-  }
 }
 
 MeshDistance::BatchScratch::BatchScratch(std::size_t triangles) : ids_(triangles), gap_(triangles) {
