@@ -198,8 +198,8 @@ SignedDistanceResult MeshDistance::finish(const Vec3& p, std::uint32_t t,
 }
 
 // Inlined: it is the inner loop of both searches.
-[[gnu::always_inline]] inline void MeshDistance::offer(const Vec3& p, std::uint32_t t, Real& best_sq, std::uint32_t& best_t,
-                                                       TriangleClosestPoint& best_c) const {
+[[gnu::always_inline]] inline void MeshDistance::offer(const Vec3& p, std::uint32_t t, Real& best_sq,
+                                                       std::uint32_t& best_t, TriangleClosestPoint& best_c) const {
   const Triangle& tri = triangles_[t];
   const Vec3& a = positions_[tri[0]];
   const Vec3& b = positions_[tri[1]];

@@ -364,7 +364,8 @@ void Simulation::measure_pair(std::size_t i, std::size_t t, const Aabb& inside_b
 const MeshDistance& Simulation::start_surface(std::size_t t) {
   if (!start_refitted_) {
     // Normally still the previous refit's surface, which is this step's start (simulation.h).
-    if (!same_bits(start_distances_[t]->positions(), start_positions_[t])) start_distances_[t]->refit(start_positions_[t]);
+    if (!same_bits(start_distances_[t]->positions(), start_positions_[t]))
+      start_distances_[t]->refit(start_positions_[t]);
     start_refitted_ = true;
   }
   return *start_distances_[t];
