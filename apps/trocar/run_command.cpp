@@ -170,6 +170,7 @@ void run(const Options& o) {
       {"scene", scene.name},
       {"method", response_method_name(sim.settings().response.method)},
       {"depth_cap", sim.settings().response.depth_cap},
+      {"correction_speed", sim.settings().response.correction_speed},
       {"steps", done},
       {"timestep_s", dt},
       {"sim_time_s", sim.time()},

@@ -69,15 +69,21 @@ Real p99(std::vector<Real> v) {
   return v[std::min(k, v.size() - 1)];
 }
 
-/// A response variant of the sweep: a method, with or without the depth cap (obb, project).
+/// A response variant of the sweep: a method, with or without the depth cap (obb, project) and
+/// the gate on the position correction (project, primitive).
 struct Variant {
   ResponseMethod method;
   bool depth_cap = true;
-  /// "obb", …; "obb-uncapped" for the seed's step 7 verbatim.
+  bool gated = true;
+  /// "obb", …; "obb-uncapped" for the seed's step 7 verbatim; "project-ungated" and
+  /// "primitive-ungated" for the full correction at every contact.
   std::string name() const {
     std::string n = response_method_name(method);
     const bool capped_kind = method == ResponseMethod::kObb || method == ResponseMethod::kProject;
-    return capped_kind && !depth_cap ? n + "-uncapped" : n;
+    const bool corrects = method == ResponseMethod::kProject || method == ResponseMethod::kPrimitive;
+    if (capped_kind && !depth_cap) n += "-uncapped";
+    if (corrects && !gated) n += "-ungated";
+    return n;
   }
 };
 
@@ -85,6 +91,7 @@ StudyRow run_point(const fs::path& file, const Variant& variant, Real period, Re
   Scene scene = load_scene(file);
   scene.settings.response.method = variant.method;
   scene.settings.response.depth_cap = variant.depth_cap;
+  if (!variant.gated) scene.settings.response.correction_speed = 0;
   scene.settings.collision_period = period;
   Real end = 0;
   for (InstrumentBody& body : scene.world.instruments) {
@@ -209,7 +216,8 @@ void write_summary(const fs::path& path, const std::vector<StudyRow>& rows, bool
     f << "## " << scene << ", speeds ≤ 1 m/s, worst over the sweep\n\n"
       << "| method | period (ms) | tunneling events | p99 penetration (mm) | max penetration (mm) | stable |\n"
       << "|---|---|---|---|---|---|\n";
-    for (const char* method : {"obb", "obb-uncapped", "project", "primitive", "normal"})
+    for (const char* method :
+         {"obb", "obb-uncapped", "project", "project-ungated", "primitive", "primitive-ungated", "normal"})
       for (Real period : {1.0, 2.0, 5.0}) {
         const Worst w = worst(rows, scene, method, period, 1.0);
         if (!w.any) continue;
@@ -221,7 +229,7 @@ void write_summary(const fs::path& path, const std::vector<StudyRow>& rows, bool
   const std::string goal_scene = "probe_press_slide";
   f << "## Goal (" << goal_scene << ", 1 ms detection, up to 1 m/s): zero tunneling and p99 ≤ 0.5 mm\n\n";
   const Worst prim = worst(rows, goal_scene, "primitive", 1.0, 1.0);
-  for (const char* method : {"obb", "project", "obb-uncapped"}) {
+  for (const char* method : {"obb", "project", "obb-uncapped", "project-ungated"}) {
     const Worst w = worst(rows, goal_scene, method, 1.0, 1.0);
     if (!w.any) continue;
     const bool met = w.tunneling == 0 && w.p99 <= 0.5e-3;
@@ -242,10 +250,15 @@ void run_study(const StudyArgs& a) {
   if (ec) throw Error("cannot create " + out.string() + ": " + ec.message());
   std::vector<std::string> scenes = {"probe_press_slide", "stab"};
   std::vector<Real> speeds = {0.01, 0.02, 0.05, 0.1, 0.2, 0.5, 1.0, 2.0};
-  // obb and project with the depth cap (the simulator's), obb without it (the seed verbatim).
-  std::vector<Variant> methods = {{ResponseMethod::kObb},       {ResponseMethod::kObb, false},
-                                  {ResponseMethod::kPrimitive}, {ResponseMethod::kNormal},
-                                  {ResponseMethod::kProject}};
+  // obb and project with the depth cap (the simulator's), obb without it (the seed verbatim);
+  // project and primitive with the gated correction (the simulator's) and without the gate.
+  std::vector<Variant> methods = {{ResponseMethod::kObb},
+                                  {ResponseMethod::kObb, false},
+                                  {ResponseMethod::kPrimitive},
+                                  {ResponseMethod::kPrimitive, true, false},
+                                  {ResponseMethod::kNormal},
+                                  {ResponseMethod::kProject},
+                                  {ResponseMethod::kProject, true, false}};
   std::vector<Real> periods = {0.001, 0.002, 0.005};
   if (a.quick) {
     scenes = {"probe_press_slide"};

@@ -77,6 +77,7 @@ TEST_F(RunCli, WritesAValidReportAndRecording) {
   const auto j3 = nlohmann::json::parse(in3);
   EXPECT_EQ(j3["method"], "normal");
   EXPECT_EQ(j3["depth_cap"], true);  // the default (docs/response.md "Depth cap")
+  EXPECT_EQ(j3["correction_speed"], 0.05);  // the default (docs/response.md "Gated correction")
   EXPECT_EQ(j3["steps"], 50);
 }
 

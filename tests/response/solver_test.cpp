@@ -1,6 +1,7 @@
 // ResponseSolver: many contacts per step, sums, Jacobians, clamp, grasp, corrections.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <vector>
 
 #include "trocar/geometry/triangle_triangle.h"
@@ -162,6 +163,64 @@ TEST(ResponseSolver, ProjectAppliesDeformationAsPositionCorrection) {
   const std::vector<Vec3> now = f.sheet.positions;
   plain.apply_corrections(f.sheet.positions);
   EXPECT_EQ(now, f.sheet.positions);
+}
+
+TEST(ResponseSolver, CorrectionGateByHand) {
+  EXPECT_DOUBLE_EQ(correction_gate(0.025, 0.05), 0.5);
+  EXPECT_DOUBLE_EQ(correction_gate(0.01, 0.04), 0.25);
+  EXPECT_EQ(correction_gate(0.05, 0.05), 1.0);
+  EXPECT_EQ(correction_gate(2.0, 0.05), 1.0);     // saturates
+  EXPECT_EQ(correction_gate(0.0, 0.05), 0.0);     // resting
+  EXPECT_EQ(correction_gate(-0.3, 0.05), 0.0);    // withdrawing
+  EXPECT_EQ(correction_gate(-0.3, 0.0), 1.0);     // ungated
+}
+
+/// The correction of the first contact when the cube arrives at the fixture's pose moving down
+/// (into the sheet, n_in = −z) at `down` m/s, and |w_i D| for comparison.
+struct GatedCorrection {
+  Real moved = 0;     ///< largest |Δx| of the contact triangle's vertices
+  Real expected = 0;  ///< largest |w_i D|
+};
+GatedCorrection gated_correction(Real down, Real correction_speed) {
+  Fixture f;
+  const Real dt = 5e-4;
+  const Vec3 at(0.0013, 0.0021, 0.0);
+  f.tool.reset_pose(Pose::from_euler_deg(at + Vec3(0, 0, down * dt), Vec3(0, 0, 0)));
+  f.tool.move_to(Pose::from_euler_deg(at, Vec3(0, 0, 0)), dt);
+  const std::vector<Contact> contacts = brute_contacts(f.tool, f.sheet);
+  ResponseSettings s;
+  s.method = ResponseMethod::kProject;
+  s.correction_speed = correction_speed;
+  ResponseSolver solver(s);
+  solver.reset(f.sheet.positions.size());
+  const std::span<const Contact> one(contacts.data(), 1);
+  EXPECT_EQ(solver.apply(one, 0, 1, f.tool, f.view(), f.loads, f.load).count(ContactStatus::kApplied), 1u);
+  const ContactResponse r = solver.last();
+  const Triangle tb = f.sheet.triangles[contacts[0].triangle_b];
+  const std::vector<Vec3> before = f.sheet.positions;
+  solver.apply_corrections(f.sheet.positions);
+  GatedCorrection g;
+  for (int i = 0; i < 3; ++i) {
+    g.moved = std::max(g.moved, (f.sheet.positions[tb[i]] - before[tb[i]]).norm());
+    g.expected = std::max(g.expected, (r.weights_b[i] * r.deformation).norm());
+  }
+  return g;
+}
+
+TEST(ResponseSolver, CorrectionIsGatedByTheInstrumentsApproach) {
+  // Driving in at half the gate speed: half the correction; at 1 m/s: all of it; held still or
+  // withdrawing: none (the penalty force alone answers, so a held instrument settles).
+  const GatedCorrection half = gated_correction(0.025, 0.05);
+  ASSERT_GT(half.expected, 1e-5);
+  EXPECT_NEAR(half.moved, 0.5 * half.expected, 1e-15);
+  const GatedCorrection fast = gated_correction(1.0, 0.05);
+  EXPECT_NEAR(fast.moved, fast.expected, 1e-15);
+  EXPECT_EQ(gated_correction(0.0, 0.05).moved, 0.0);
+  EXPECT_EQ(gated_correction(-0.2, 0.05).moved, 0.0);
+  // Ungated (correction_speed 0): the full correction whatever the motion.
+  const GatedCorrection still = gated_correction(0.0, 0.0);
+  ASSERT_GT(still.expected, 1e-5);
+  EXPECT_NEAR(still.moved, still.expected, 1e-15);
 }
 
 TEST(ResponseSolver, SkipsOtherPairsAndKinds) {

@@ -34,7 +34,8 @@ std::string error_of(const std::string& text, const std::filesystem::path& dir =
 TEST(Scene, ValidSceneBuildsTheWorld) {
   const Scene scene = parse_scene(scene_text(R"(, "fixed": {"below_plane": {"point": [0,0,-0.02], "normal": [0,0,1]}})",
                                              R"( "name": "t", "collision": {"broad_phase": "bvh", "cell_size": 0.004, "period": 0.002},
-                                                 "response": {"method": "project", "stiffness": 100, "depth_cap": false},)"),
+                                                 "response": {"method": "project", "stiffness": 100, "depth_cap": false,
+                                                              "correction_speed": 0.2},)"),
                                   "scene.json", ".");
   EXPECT_EQ(scene.name, "t");
   ASSERT_EQ(scene.world.tissues.size(), 1u);
@@ -50,7 +51,10 @@ TEST(Scene, ValidSceneBuildsTheWorld) {
   EXPECT_EQ(scene.settings.response.method, ResponseMethod::kProject);
   EXPECT_EQ(scene.settings.response.stiffness, 100.0);
   EXPECT_FALSE(scene.settings.response.depth_cap);
-  EXPECT_TRUE(parse_scene(scene_text(), "scene.json", ".").settings.response.depth_cap);  // the default
+  EXPECT_EQ(scene.settings.response.correction_speed, 0.2);
+  const Scene plain = parse_scene(scene_text(), "scene.json", ".");
+  EXPECT_TRUE(plain.settings.response.depth_cap);                 // the default
+  EXPECT_EQ(plain.settings.response.correction_speed, 0.05);      // the default (m/s)
 }
 
 TEST(Scene, UnknownKeyNamesItsPath) {
@@ -74,6 +78,8 @@ TEST(Scene, BadValueNamesItsPath) {
   const std::string text = R"({"schema": 1, "tissues": [{"mesh": {"generate": "icosphere", "radius": 0.03},
                                 "material": {"k_area": -1}}]})";
   EXPECT_EQ(error_of(text), "scene.json: tissues[0].material.k_area: must be >= 0");
+  EXPECT_EQ(error_of(scene_text("", R"( "response": {"correction_speed": -0.1},)")),
+            "scene.json: response.correction_speed: must be >= 0");
 }
 
 TEST(Scene, UnknownPresetIntegratorMethodGeneratorAndBroadPhase) {

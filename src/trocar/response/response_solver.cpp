@@ -1,5 +1,6 @@
 #include "trocar/response/response_solver.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace trocar {
@@ -11,6 +12,11 @@ void InstrumentLoad::clamp(Real max_force) {
   clamped = scale < 1;
   force = scale * raw_force;
   torque = scale * raw_torque;
+}
+
+Real correction_gate(Real approach_speed, Real correction_speed) {
+  if (!(correction_speed > 0)) return 1;
+  return std::clamp(approach_speed / correction_speed, Real{0}, Real{1});
 }
 
 void ResponseSolver::reset(std::size_t tissue_vertex_count) {
@@ -96,11 +102,12 @@ ResponseStats ResponseSolver::apply(std::span<const Contact> contacts, std::uint
       loads.contacts.push_back(j);
     }
     if (corrects) {
+      const Real gate = correction_gate(instrument.velocity_at(r.point).dot(r.normal_in), settings_.correction_speed);
       for (int i = 0; i < 3; ++i) {
         if (w[i] <= 0) continue;
         const std::uint32_t v = tb[i];
         if (correction_weight_[v] == 0) touched_.push_back(v);
-        correction_[v] += w[i] * r.deformation;
+        correction_[v] += (gate * w[i]) * r.deformation;
         correction_weight_[v] += w[i];
       }
     }

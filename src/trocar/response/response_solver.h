@@ -46,6 +46,11 @@ struct ResponseStats {
   std::uint32_t count(ContactStatus s) const { return by_status[static_cast<std::size_t>(s)]; }
 };
 
+/// The share of a contact's position correction (project, primitive) that is applied:
+/// clamp(approach_speed / correction_speed, 0, 1), 1 when correction_speed ≤ 0 (ungated).
+/// approach_speed is the instrument's own velocity at P along n_in (m/s).
+Real correction_gate(Real approach_speed, Real correction_speed);
+
 /// The response between one instrument and one tissue (one solver per pair: it holds that
 /// pair's grasp and position corrections). No allocation in apply() after reset(), except the
 /// first time loads.contacts outgrows the capacity reserved by TissueLoads::reset.

@@ -39,6 +39,13 @@ struct ResponseSettings {
   /// seed's step 7 verbatim, whose force jumps from 0 to K·(distance to the box's side) at first
   /// touch and makes a held instrument chatter.
   bool depth_cap = true;
+  /// project and primitive: the position correction is scaled by
+  /// clamp(v_instrument·n_in / correction_speed, 0, 1), v_instrument the instrument's own
+  /// velocity at P, so a resting or withdrawing instrument is answered by the penalty force
+  /// alone (which settles) and one driving into the tissue at ≥ correction_speed also projects
+  /// the tissue out (docs/response.md "Gated correction"). m/s; 0: always the full correction
+  /// (the ungated baseline, which chatters under a held instrument).
+  Real correction_speed = 0.05;
 };
 
 }  // namespace trocar

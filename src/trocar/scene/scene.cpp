@@ -193,7 +193,7 @@ void read_collision(const JsonReader& c, Scene& scene) {
 
 void read_response(const JsonReader& r, Scene& scene) {
   r.expect_keys({"method", "stiffness", "damping", "max_force", "resting_speed", "grasp_closure", "pierce_filter",
-                 "depth_cap"});
+                 "depth_cap", "correction_speed"});
   ResponseSettings& s = scene.settings.response;
   if (r.has("method")) {
     const JsonReader m = r.at("method");
@@ -212,6 +212,7 @@ void read_response(const JsonReader& r, Scene& scene) {
   }
   if (r.has("pierce_filter")) s.pierce_filter = r.at("pierce_filter").boolean();
   if (r.has("depth_cap")) s.depth_cap = r.at("depth_cap").boolean();
+  if (r.has("correction_speed")) s.correction_speed = r.at("correction_speed").number_at_least(0);
 }
 
 }  // namespace
