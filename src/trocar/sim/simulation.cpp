@@ -144,6 +144,7 @@ Simulation::Simulation(World world, const SimulationSettings& settings)
       reach_[i] = std::max(reach_[i], (p - instrument.pose().translation).norm());
   }
   previous_distance_.resize(ni * nt);
+  through_.resize(ni * nt);
   nearest_triangle_.resize(ni * nt);
   touched_.resize(ni);
   query_order_.resize(ni);
@@ -156,6 +157,7 @@ Simulation::Simulation(World world, const SimulationSettings& settings)
     coherent_order(points, query_order_[i]);
     for (std::size_t t = 0; t < nt; ++t) {
       previous_distance_[i * nt + t].assign(nv, kUnknown);
+      through_[i * nt + t].assign(nv, 0);
       nearest_triangle_[i * nt + t].assign(nv, MeshDistance::kNoTriangle);
     }
   }
@@ -299,7 +301,11 @@ void Simulation::measure_penetration(std::size_t t) {
                         metrics_.max_speed) * dt_;
     const Aabb inside_box = sheet ? tissue_box.inflated(2 * moved + body.thickness) : tissue_box;
     // No vertex in the box: all outside, no refit and no query (an instrument on its way in).
-    if (!inside_box.overlaps(instrument.world_obb().bounds()) || !any_inside(instrument.world_positions(), inside_box)) {
+    // A vertex through a sheet is measured wherever it is.
+    const std::vector<std::uint8_t>& through = through_[i * nt + t];
+    const bool any_through = sheet && std::find(through.begin(), through.end(), 1) != through.end();
+    if (!any_through && (!inside_box.overlaps(instrument.world_obb().bounds()) ||
+                         !any_inside(instrument.world_positions(), inside_box))) {
       std::fill(previous_distance_[i * nt + t].begin(), previous_distance_[i * nt + t].end(),
                 sheet ? kUnknown : kOutside);
       continue;
@@ -348,8 +354,9 @@ void Simulation::measure_pair(std::size_t i, std::size_t t, const Aabb& inside_b
     }
     batch.count = 0;
   };
+  const std::vector<std::uint8_t>& through = through_[i * nt + t];
   for (const std::uint32_t v : query_order_[i]) {
-    if (!inside_box.contains(points[v])) {
+    if (!inside_box.contains(points[v]) && !(sheet && through[v] != 0)) {
       previous[v] = sheet ? kUnknown : kOutside;
       continue;
     }

@@ -163,6 +163,11 @@ class Simulation {
   /// to (MeshDistance::kNoTriangle if none), the seed of its next query.
   std::vector<std::vector<std::uint32_t>> nearest_triangle_;
   std::vector<std::vector<std::uint8_t>> touched_;  ///< per instrument: vertex in a contact now
+  /// Per (instrument, tissue) pair, open tissues only: 1 while an instrument vertex is on the far
+  /// side of the sheet from where it came (it crossed the sheet's interior, side known on both
+  /// steps), so its distance to the sheet is a penetration depth; 0 once it crosses back or its
+  /// side becomes unknown (sim/sheet_crossing.cpp).
+  std::vector<std::vector<std::uint8_t>> through_;
   bool start_refitted_ = false;  ///< start_distances_ of the tissue being measured is current
   /// Per instrument: its vertex ids in a spatially coherent order (the penetration queries go in
   /// batches of consecutive vertices in the tissue's box).
