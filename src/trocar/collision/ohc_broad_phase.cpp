@@ -142,6 +142,8 @@ void OhcBroadPhase::build_clusters(ObjectClusters& c, const CollisionObject& obj
   c.groups.resize((clusters + kGroupClusters - 1) / kGroupClusters);
   c.touched.clear();
   c.touched.reserve(clusters);
+  c.prim_first.assign(clusters, 0);
+  c.prim_count.assign(clusters, 0);
 }
 
 void OhcBroadPhase::expand_region(std::uint32_t object, std::uint32_t cluster, const Aabb& box) {
@@ -195,6 +197,7 @@ void OhcBroadPhase::cluster_cascade(std::uint32_t i, std::uint32_t j) {
     const SweepItem& p = sweep_[a];
     for (std::size_t b = a + 1; b < count && sweep_[b].box.min.x() <= p.box.max.x(); ++b) {
       if (++steps > budget) {
+        sweeps_complete_ = false;  // the cluster pairs are not all known: hash this frame
         for (const SweepItem& item : sweep_) {
           expand_region(item.side == 0 ? i : j, item.cluster, item.box.intersection(overlap));
         }
@@ -205,6 +208,7 @@ void OhcBroadPhase::cluster_cascade(std::uint32_t i, std::uint32_t j) {
       const Aabb both = p.box.intersection(q.box);
       expand_region(p.side == 0 ? i : j, p.cluster, both);
       expand_region(q.side == 0 ? i : j, q.cluster, both);
+      cluster_pair_list_.push_back({both, i, p.side == 0 ? p.cluster : q.cluster, j, p.side == 0 ? q.cluster : p.cluster});
       ++stats_.cluster_pairs;
     }
   }
@@ -427,6 +431,8 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
   stats_ = {};
   const auto n = static_cast<std::uint32_t>(objects.size());
   primitives_.clear();
+  cluster_pair_list_.clear();
+  sweeps_complete_ = true;
   if (n < 2) return;
 
   // 1. Object boxes and the tested, overlapping pairs.
@@ -502,6 +508,11 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
     const std::size_t to_visit = by_cluster ? c.touched.size() : c.boxes.size();
     for (std::size_t v = 0; v < to_visit; ++v) {
       const std::uint32_t k = by_cluster ? c.touched[v] : static_cast<std::uint32_t>(v);
+      const auto first_prim = static_cast<std::uint32_t>(primitives_.size());
+      if (by_cluster) {
+        c.prim_first[k] = first_prim;
+        c.prim_count[k] = 0;
+      }
       if (!c.boxes[k].overlaps(grown)) continue;
       // With the cluster level, the cluster's own region (the overlaps of its grown box with
       // partner clusters' grown boxes) narrows the object's; a common point of two inflated
@@ -537,10 +548,27 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
         edge_sum2 += (b - a).squaredNorm() + (cc - b).squaredNorm() + (a - cc).squaredNorm();
         edge_count += 3;
       }
+      if (by_cluster) c.prim_count[k] = static_cast<std::uint32_t>(primitives_.size()) - first_prim;
     }
   }
   stats_.primitives_hashed = static_cast<std::uint32_t>(primitives_.size());
   if (primitives_.empty()) return;
+
+  // The cluster-pair path when the pairs are all known and their box tests are few enough to
+  // stay O(primitives): no cells at all.
+  if (by_cluster && sweeps_complete_ && settings_.max_pair_tests_per_primitive > 0) {
+    Real tests = 0;
+    for (const ClusterPair& cp : cluster_pair_list_) {
+      tests += static_cast<Real>(clusters_[cp.i].prim_count[cp.cluster_i]) *
+               static_cast<Real>(clusters_[cp.j].prim_count[cp.cluster_j]);
+    }
+    if (tests <= settings_.max_pair_tests_per_primitive * static_cast<Real>(primitives_.size()) + 1024.0) {
+      stats_.cluster_pair_path = true;
+      emit_cluster_pairs(objects, out);
+      stats_.candidate_pairs = out.size();
+      return;
+    }
+  }
 
   // 3. Cell size and cell ranges; double the cell while a few huge boxes would need too many.
   Real h = settings_.cell_size;

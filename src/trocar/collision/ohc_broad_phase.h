@@ -37,6 +37,14 @@ struct OhcSettings {
   /// would need more (a few huge triangles among tiny ones), the cell size is doubled until it
   /// fits. Keeps memory and time O(primitives) whatever the size mix (dimensionless).
   Real max_cells_per_primitive = 64;
+  /// Cluster-pair path (only with both cascade levels): when the cluster sweep completed and
+  /// Σ over the overlapping cluster pairs of (opened triangles of one) × (of the other) is at most
+  /// this × the opened triangles + 1,024, each cluster pair's triangle boxes are tested against
+  /// each other directly (four at a time) and the cell hash is skipped: a triangle pair lies in
+  /// exactly one cluster pair, so nothing needs deduplicating. The candidates are the same as
+  /// the hash's. 0: always hash (for tests and measurements); infinity: always this path when the
+  /// sweep completed.
+  Real max_pair_tests_per_primitive = 128;
   /// Use the AVX2 kernels (cluster refit, box tests of a cell's pairs) where the CPU has them
   /// and TROCAR_SIMD is not "off". false: the portable code (for tests and comparisons); the
   /// pairs are the same either way.
@@ -57,6 +65,9 @@ struct OhcStats {
   std::uint64_t solo_cells = 0;           ///< touched cells whose primitives are of one object
   std::uint64_t potential_cells = 0;      ///< touched cells with primitives of > 1 object
   std::uint64_t candidate_pairs = 0;      ///< pairs returned (after the box test and dedup)
+  /// The candidates came from the cluster pairs' direct box tests (no cell hash: the entries,
+  /// table and cell counts are 0).
+  bool cluster_pair_path = false;
   Real cell_size = 0;                     ///< cell edge used this frame (metres)
 };
 
@@ -147,6 +158,15 @@ class OhcBroadPhase final : public BroadPhase {
     std::vector<Aabb> regions;
     /// The clusters whose region is not empty this frame, each once (capacity: all clusters).
     std::vector<std::uint32_t> touched;
+    /// Per touched cluster, this frame: its triangles in primitives_ ([first, first + count)).
+    std::vector<std::uint32_t> prim_first;
+    std::vector<std::uint32_t> prim_count;
+  };
+  /// Two overlapping clusters of a tested object pair (i < j), found by the sweep.
+  struct ClusterPair {
+    Aabb both;                 ///< overlap of the two grown cluster boxes
+    std::uint32_t i, cluster_i;
+    std::uint32_t j, cluster_j;
   };
   /// A cluster in the cluster-vs-cluster sweep: its grown box and where it comes from.
   struct SweepItem {
@@ -163,6 +183,8 @@ class OhcBroadPhase final : public BroadPhase {
   void expand_region(std::uint32_t object, std::uint32_t cluster, const Aabb& box);
   void emit_cell_pairs(std::span<const Entry> cell, std::span<const CollisionObject> objects,
                        std::vector<CandidatePair>& out);
+  /// The cluster-pair path: the candidates of every overlapping cluster pair by direct box tests.
+  void emit_cluster_pairs(std::span<const CollisionObject> objects, std::vector<CandidatePair>& out);
 
   OhcSettings settings_;
   OhcStats stats_;
@@ -173,6 +195,8 @@ class OhcBroadPhase final : public BroadPhase {
   std::vector<Primitive> primitives_;
   std::vector<Real> margins_;          // per object: bound on its triangles' box margins
   std::vector<SweepItem> sweep_;       // cluster_cascade scratch (reserved for all clusters)
+  std::vector<ClusterPair> cluster_pair_list_;  // this frame's overlapping cluster pairs
+  bool sweeps_complete_ = true;        // no sweep hit its step budget this frame
   std::vector<std::uint32_t> slot_start_;  // table_size + 1 (counting sort)
   std::vector<Entry> entries_;
   std::vector<Entry> staged_;              // entries in primitive order, before the counting sort

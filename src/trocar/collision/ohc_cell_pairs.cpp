@@ -137,3 +137,73 @@ void OhcBroadPhase::emit_cell_pairs(std::span<const Entry> cell, std::span<const
 }
 
 }  // namespace trocar
+
+namespace trocar {
+
+void OhcBroadPhase::emit_cluster_pairs(std::span<const CollisionObject> objects, std::vector<CandidatePair>& out) {
+  // The opened triangles' clipped boxes, one array per axis and side (as a cell's in
+  // emit_cell_pairs); a cluster's triangles are consecutive in primitives_, so each cluster is a
+  // contiguous range of these arrays.
+  const std::size_t count = primitives_.size();
+  if (cell_stride_ < count + 4) {
+    cell_stride_ = count + 4;
+    cell_boxes_.assign(6 * cell_stride_, 0.0);
+  }
+  if (cell_hits_.size() < count + 4) cell_hits_.resize(count + 4);
+  Real* const lo[3] = {cell_boxes_.data(), cell_boxes_.data() + cell_stride_, cell_boxes_.data() + 2 * cell_stride_};
+  Real* const hi[3] = {lo[2] + cell_stride_, lo[2] + 2 * cell_stride_, lo[2] + 3 * cell_stride_};
+  for (std::size_t e = 0; e < count; ++e) {
+    const Primitive& a = primitives_[e];
+    for (int k = 0; k < 3; ++k) {
+      lo[k][e] = a.min[k];
+      hi[k][e] = a.max[k];
+    }
+  }
+  const Real* const clo[3] = {lo[0], lo[1], lo[2]};
+  const Real* const chi[3] = {hi[0], hi[1], hi[2]};
+#if defined(__x86_64__) && defined(__GNUC__)
+  const bool avx2 = settings_.simd && cpu_has_avx2();
+#endif
+  std::uint32_t* hits = cell_hits_.data();
+  for (const ClusterPair& cp : cluster_pair_list_) {
+    const std::uint32_t first_i = clusters_[cp.i].prim_first[cp.cluster_i];
+    const std::uint32_t count_i = clusters_[cp.i].prim_count[cp.cluster_i];
+    const std::uint32_t first_j = clusters_[cp.j].prim_first[cp.cluster_j];
+    const std::uint32_t count_j = clusters_[cp.j].prim_count[cp.cluster_j];
+    if (count_i == 0 || count_j == 0) continue;
+    const bool i_first = object_first(objects[cp.i].role, cp.i, objects[cp.j].role, cp.j);
+    // The smaller cluster walked, the larger one box-tested four at a time.
+    const bool i_outside = count_i <= count_j;
+    const std::uint32_t outer_begin = i_outside ? first_i : first_j;
+    const std::uint32_t outer_end = outer_begin + (i_outside ? count_i : count_j);
+    const std::uint32_t inner_begin = i_outside ? first_j : first_i;
+    const std::uint32_t inner_end = inner_begin + (i_outside ? count_j : count_i);
+    const bool outer_first = i_first == i_outside;
+    const Real b_lo[3] = {cp.both.min.x(), cp.both.min.y(), cp.both.min.z()};
+    const Real b_hi[3] = {cp.both.max.x(), cp.both.max.y(), cp.both.max.z()};
+    for (std::uint32_t a = outer_begin; a < outer_end; ++a) {
+      const Real a_lo[3] = {lo[0][a], lo[1][a], lo[2][a]};
+      const Real a_hi[3] = {hi[0][a], hi[1][a], hi[2][a]};
+      // A box lies in its cluster's grown box, so one that misses the overlap of the two grown
+      // cluster boxes misses every box of the other cluster.
+      if (a_lo[0] > b_hi[0] || b_lo[0] > a_hi[0] || a_lo[1] > b_hi[1] || b_lo[1] > a_hi[1] || a_lo[2] > b_hi[2] ||
+          b_lo[2] > a_hi[2])
+        continue;
+#if defined(__x86_64__) && defined(__GNUC__)
+      const std::uint32_t n_hits = avx2 ? box_hits_avx2(clo, chi, inner_begin, inner_end, a_lo, a_hi, hits)
+                                        : box_hits_scalar(clo, chi, inner_begin, inner_end, a_lo, a_hi, hits);
+#else
+      const std::uint32_t n_hits = box_hits_scalar(clo, chi, inner_begin, inner_end, a_lo, a_hi, hits);
+#endif
+      const Primitive& pa = primitives_[a];
+      for (std::uint32_t k = 0; k < n_hits; ++k) {
+        const Primitive& pb = primitives_[hits[k]];
+        const Primitive& first = outer_first ? pa : pb;
+        const Primitive& second = outer_first ? pb : pa;
+        out.push_back({first.object, second.object, first.triangle, second.triangle});
+      }
+    }
+  }
+}
+
+}  // namespace trocar
