@@ -154,12 +154,8 @@ struct ScalarStage {
 
 }  // namespace
 
-void exact_candidate(const CollisionObject& oa, const CollisionObject& ob, const CandidatePair& pair,
-                     std::vector<Contact>& out) {
-  const Triangle& ta = oa.triangles[pair.triangle_a];
-  const Triangle& tb = ob.triangles[pair.triangle_b];
-  const TriTriResult r = intersect_triangles(oa.positions[ta[0]], oa.positions[ta[1]], oa.positions[ta[2]],
-                                             ob.positions[tb[0]], ob.positions[tb[1]], ob.positions[tb[2]]);
+void append_contact(const CollisionObject& oa, const CollisionObject& ob, const CandidatePair& pair,
+                    const TriTriResult& r, std::vector<Contact>& out) {
   if (!r.intersects) return;
   Contact c;
   c.object_a = pair.object_a;
@@ -172,6 +168,63 @@ void exact_candidate(const CollisionObject& oa, const CollisionObject& ob, const
   c.segment_q = r.q;
   out.push_back(c);
 }
+
+void exact_candidate(const CollisionObject& oa, const CollisionObject& ob, const CandidatePair& pair,
+                     std::vector<Contact>& out) {
+  const Triangle& ta = oa.triangles[pair.triangle_a];
+  const Triangle& tb = ob.triangles[pair.triangle_b];
+  append_contact(oa, ob, pair,
+                 intersect_triangles(oa.positions[ta[0]], oa.positions[ta[1]], oa.positions[ta[2]],
+                                     ob.positions[tb[0]], ob.positions[tb[1]], ob.positions[tb[2]]),
+                 out);
+}
+
+namespace {
+
+// The candidates the AVX2 rejection tests keep, up to four, for exact4_avx2 (those it leaves go
+// through intersect_triangles one by one). The same contacts as one exact_candidate() each.
+class ExactBatch {
+ public:
+  void add(std::span<const CollisionObject> objects, const CandidatePair& pair, std::vector<Contact>& out) {
+    pairs_[count_++] = &pair;
+    if (count_ == 4) flush(objects, out);
+  }
+
+  void flush(std::span<const CollisionObject> objects, std::vector<Contact>& out) {
+    if (count_ == 0) return;
+    const Vec3* corners[4][6];
+    for (int k = 0; k < 4; ++k) {
+      const CandidatePair& pair = *pairs_[k < count_ ? k : 0];  // spare lanes repeat the first
+      const CollisionObject& oa = objects[pair.object_a];
+      const CollisionObject& ob = objects[pair.object_b];
+      const Triangle& ta = oa.triangles[pair.triangle_a];
+      const Triangle& tb = ob.triangles[pair.triangle_b];
+      for (int c = 0; c < 3; ++c) {
+        corners[k][c] = &oa.positions[ta[c]];
+        corners[k][3 + c] = &ob.positions[tb[c]];
+      }
+    }
+    TriTriResult r[4];
+    const int done = exact4_avx2(corners, r);
+    for (int k = 0; k < count_; ++k) {
+      const CandidatePair& pair = *pairs_[k];
+      const CollisionObject& oa = objects[pair.object_a];
+      const CollisionObject& ob = objects[pair.object_b];
+      if (done >> k & 1) {
+        append_contact(oa, ob, pair, r[k], out);
+      } else {
+        exact_candidate(oa, ob, pair, out);
+      }
+    }
+    count_ = 0;
+  }
+
+ private:
+  const CandidatePair* pairs_[4] = {};
+  int count_ = 0;
+};
+
+}  // namespace
 
 namespace {
 
@@ -227,6 +280,7 @@ void narrow_phase(std::span<const CollisionObject> objects, std::span<const Cand
   const bool simd = allow_simd && cpu_has_avx2_fma();
   ScalarStage scalar;
   PlaneStage s;
+  ExactBatch batch;
   for (std::size_t k = 0; k < pairs.size();) {
     const CandidatePair& pair = pairs[k];
     const CollisionObject& oa = objects[pair.object_a];
@@ -236,13 +290,17 @@ void narrow_phase(std::span<const CollisionObject> objects, std::span<const Cand
         pairs[k + 3].object_b == pair.object_b && pairs[k + 1].object_a == pair.object_a &&
         pairs[k + 1].object_b == pair.object_b && pairs[k + 2].object_a == pair.object_a &&
         pairs[k + 2].object_b == pair.object_b) {
-      reject4_avx2(oa, ob, &pairs[k], out);
+      const int keep = reject4_avx2(oa, ob, &pairs[k]);
+      for (int lane = 0; lane < 4; ++lane) {
+        if (keep >> lane & 1) batch.add(objects, pairs[k + static_cast<std::size_t>(lane)], out);
+      }
       k += 4;
       continue;
     }
     if (scalar.run(oa, ob, pair, s) && !separated_on_line(s)) exact_candidate(oa, ob, pair, out);
     ++k;
   }
+  batch.flush(objects, out);
   sort_contacts(out);
 }
 
