@@ -670,7 +670,7 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
   entries_.resize(entry_count);
   // emit_cell_pairs scratch, a cell's worth (the box arrays readable 3 past a cell's end).
   if (cell_starts_.size() < entries_.size()) cell_starts_.resize(entries_.size());
-  if (cell_hits_.size() < entries_.size() + 4) cell_hits_.resize(entries_.size() + 4);
+  if (cell_hits_.size() < entries_.size() + 8) cell_hits_.resize(entries_.size() + 8);
   if (cell_groups_.size() < entries_.size() + 1) cell_groups_.resize(entries_.size() + 1);
   if (cell_stride_ < entries_.size() + 4) {
     cell_stride_ = entries_.size() + 4;

@@ -202,7 +202,7 @@ class OhcBroadPhase final : public BroadPhase {
   std::vector<Entry> staged_;              // entries in primitive order, before the counting sort
   std::vector<std::uint32_t> staged_slots_;  // their slots
   std::vector<std::uint8_t> cell_starts_;  // emit_cell_pairs scratch (≥ entries_.size())
-  std::vector<std::uint32_t> cell_hits_;   // emit_cell_pairs scratch (≥ entries_.size() + 4)
+  std::vector<std::uint32_t> cell_hits_;   // box test hits scratch (≥ entries or primitives + 8)
   std::vector<std::uint32_t> cell_groups_;  // emit_cell_pairs scratch (≥ entries_.size() + 1)
   std::vector<Real> cell_boxes_;           // emit_cell_pairs scratch: 6 arrays of cell_stride_
   std::size_t cell_stride_ = 0;            // ≥ entries_.size() + 4
