@@ -490,8 +490,21 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
   //    intersect, a common point x lies in both inflated triangle boxes and so in both object
   //    boxes, hence in box_i ∩ box_j ⊆ region_i ∩ region_j: both pass and their clipped boxes
   //    still share x.
-  Real edge_sum2 = 0;  // Σ squared edge lengths of the hashed primitives
-  std::size_t edge_count = 0;
+  //    The boxes go to one array per axis and side (what the box tests read four or eight at a
+  //    time), sized for every triangle of the clusters that may open.
+  std::size_t bound = 0;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    if (!regions_[i].is_empty()) bound += by_cluster ? kClusterTriangles * clusters_[i].touched.size() : objects[i].triangles.size();
+  }
+  if (opened_stride_ < bound + 8) {
+    opened_stride_ = bound + 8;
+    opened_boxes_.assign(6 * opened_stride_, 0.0);
+    opened_ids_.resize(opened_stride_);
+  }
+  Real* const box_lo[3] = {opened_boxes_.data(), opened_boxes_.data() + opened_stride_,
+                           opened_boxes_.data() + 2 * opened_stride_};
+  Real* const box_hi[3] = {box_lo[2] + opened_stride_, box_lo[2] + 2 * opened_stride_, box_lo[2] + 3 * opened_stride_};
+  std::uint32_t opened = 0;  // triangles that passed
   for (std::uint32_t i = 0; i < n; ++i) {
     const Aabb& region = regions_[i];
     if (region.is_empty()) continue;
@@ -508,7 +521,7 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
     const std::size_t to_visit = by_cluster ? c.touched.size() : c.boxes.size();
     for (std::size_t v = 0; v < to_visit; ++v) {
       const std::uint32_t k = by_cluster ? c.touched[v] : static_cast<std::uint32_t>(v);
-      const auto first_prim = static_cast<std::uint32_t>(primitives_.size());
+      const std::uint32_t first_prim = opened;
       if (by_cluster) {
         c.prim_first[k] = first_prim;
         c.prim_count[k] = 0;
@@ -539,20 +552,17 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
         const std::uint32_t t = c.order[o];
         const Aabb box = triangle_box(a, b, cc).intersection(clip);
         if (box.is_empty()) continue;
-        Primitive prim;
-        prim.min = box.min;
-        prim.max = box.max;
-        prim.object = i;
-        prim.triangle = t;
-        primitives_.push_back(prim);
-        edge_sum2 += (b - a).squaredNorm() + (cc - b).squaredNorm() + (a - cc).squaredNorm();
-        edge_count += 3;
+        for (int axis = 0; axis < 3; ++axis) {
+          box_lo[axis][opened] = box.min[axis];
+          box_hi[axis][opened] = box.max[axis];
+        }
+        opened_ids_[opened++] = {i, t};
       }
-      if (by_cluster) c.prim_count[k] = static_cast<std::uint32_t>(primitives_.size()) - first_prim;
+      if (by_cluster) c.prim_count[k] = opened - first_prim;
     }
   }
-  stats_.primitives_hashed = static_cast<std::uint32_t>(primitives_.size());
-  if (primitives_.empty()) return;
+  stats_.primitives_hashed = opened;
+  if (opened == 0) return;
 
   // The cluster-pair path when the pairs are all known and their box tests are few enough to
   // stay O(primitives): no cells at all.
@@ -562,13 +572,31 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
       tests += static_cast<Real>(clusters_[cp.i].prim_count[cp.cluster_i]) *
                static_cast<Real>(clusters_[cp.j].prim_count[cp.cluster_j]);
     }
-    if (tests <= settings_.max_pair_tests_per_primitive * static_cast<Real>(primitives_.size()) + 1024.0) {
+    if (tests <= settings_.max_pair_tests_per_primitive * static_cast<Real>(opened) + 1024.0) {
       stats_.cluster_pair_path = true;
-      emit_cluster_pairs(objects, out);
+      emit_cluster_pairs(objects, out, opened);
       stats_.candidate_pairs = out.size();
       return;
     }
   }
+
+  // The hash's primitives (boxes and cell ranges together), and the edge lengths for its cells.
+  primitives_.resize(opened);
+  Real edge_sum2 = 0;  // Σ squared edge lengths of the hashed primitives
+  for (std::uint32_t e = 0; e < opened; ++e) {
+    Primitive& prim = primitives_[e];
+    prim.min = Vec3(box_lo[0][e], box_lo[1][e], box_lo[2][e]);
+    prim.max = Vec3(box_hi[0][e], box_hi[1][e], box_hi[2][e]);
+    prim.object = opened_ids_[e].object;
+    prim.triangle = opened_ids_[e].triangle;
+    const CollisionObject& object = objects[prim.object];
+    const Triangle& tri = object.triangles[prim.triangle];
+    const Vec3& a = object.positions[tri[0]];
+    const Vec3& b = object.positions[tri[1]];
+    const Vec3& cc = object.positions[tri[2]];
+    edge_sum2 += (b - a).squaredNorm() + (cc - b).squaredNorm() + (a - cc).squaredNorm();
+  }
+  const std::size_t edge_count = 3 * static_cast<std::size_t>(opened);
 
   // 3. Cell size and cell ranges; double the cell while a few huge boxes would need too many.
   Real h = settings_.cell_size;

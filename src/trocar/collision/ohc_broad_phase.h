@@ -158,7 +158,8 @@ class OhcBroadPhase final : public BroadPhase {
     std::vector<Aabb> regions;
     /// The clusters whose region is not empty this frame, each once (capacity: all clusters).
     std::vector<std::uint32_t> touched;
-    /// Per touched cluster, this frame: its triangles in primitives_ ([first, first + count)).
+    /// Per touched cluster, this frame: its opened triangles ([first, first + count) of the
+    /// opened_ arrays).
     std::vector<std::uint32_t> prim_first;
     std::vector<std::uint32_t> prim_count;
   };
@@ -184,7 +185,8 @@ class OhcBroadPhase final : public BroadPhase {
   void emit_cell_pairs(std::span<const Entry> cell, std::span<const CollisionObject> objects,
                        std::vector<CandidatePair>& out);
   /// The cluster-pair path: the candidates of every overlapping cluster pair by direct box tests.
-  void emit_cluster_pairs(std::span<const CollisionObject> objects, std::vector<CandidatePair>& out);
+  void emit_cluster_pairs(std::span<const CollisionObject> objects, std::vector<CandidatePair>& out,
+                          std::uint32_t opened);
 
   OhcSettings settings_;
   OhcStats stats_;
@@ -192,7 +194,17 @@ class OhcBroadPhase final : public BroadPhase {
   std::vector<Aabb> regions_;          // per object: bounding box of its overlaps
   std::vector<std::uint8_t> tested_;   // objects² flags: pair tested and boxes overlap
   std::vector<ObjectClusters> clusters_;  // per object
-  std::vector<Primitive> primitives_;
+  /// A triangle that passed the cascade this frame: its object and its index there.
+  struct OpenedId {
+    std::uint32_t object;
+    std::uint32_t triangle;
+  };
+  // The triangles that passed the cascade this frame, in cluster order: their clipped boxes as
+  // six arrays of opened_stride_ (min x, y, z, max x, y, z) and their ids.
+  std::vector<Real> opened_boxes_;
+  std::vector<OpenedId> opened_ids_;
+  std::size_t opened_stride_ = 0;
+  std::vector<Primitive> primitives_;  // the cell hash's copy of them, with cell ranges
   std::vector<Real> margins_;          // per object: bound on its triangles' box margins
   std::vector<SweepItem> sweep_;       // cluster_cascade scratch (reserved for all clusters)
   std::vector<ClusterPair> cluster_pair_list_;  // this frame's overlapping cluster pairs

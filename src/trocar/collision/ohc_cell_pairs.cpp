@@ -182,27 +182,14 @@ void OhcBroadPhase::emit_cell_pairs(std::span<const Entry> cell, std::span<const
 
 namespace trocar {
 
-void OhcBroadPhase::emit_cluster_pairs(std::span<const CollisionObject> objects, std::vector<CandidatePair>& out) {
-  // The opened triangles' clipped boxes, one array per axis and side (as a cell's in
-  // emit_cell_pairs); a cluster's triangles are consecutive in primitives_, so each cluster is a
-  // contiguous range of these arrays.
-  const std::size_t count = primitives_.size();
-  if (cell_stride_ < count + 4) {
-    cell_stride_ = count + 4;
-    cell_boxes_.assign(6 * cell_stride_, 0.0);
-  }
-  if (cell_hits_.size() < count + 8) cell_hits_.resize(count + 8);
-  Real* const lo[3] = {cell_boxes_.data(), cell_boxes_.data() + cell_stride_, cell_boxes_.data() + 2 * cell_stride_};
-  Real* const hi[3] = {lo[2] + cell_stride_, lo[2] + 2 * cell_stride_, lo[2] + 3 * cell_stride_};
-  for (std::size_t e = 0; e < count; ++e) {
-    const Primitive& a = primitives_[e];
-    for (int k = 0; k < 3; ++k) {
-      lo[k][e] = a.min[k];
-      hi[k][e] = a.max[k];
-    }
-  }
-  const Real* const clo[3] = {lo[0], lo[1], lo[2]};
-  const Real* const chi[3] = {hi[0], hi[1], hi[2]};
+void OhcBroadPhase::emit_cluster_pairs(std::span<const CollisionObject> objects, std::vector<CandidatePair>& out,
+                                       std::uint32_t opened) {
+  // The opened triangles' clipped boxes (one array per axis and side; a cluster's triangles are
+  // consecutive, so each cluster is a contiguous range of them).
+  if (cell_hits_.size() < opened + 8) cell_hits_.resize(opened + 8);
+  const Real* const lo[3] = {opened_boxes_.data(), opened_boxes_.data() + opened_stride_,
+                             opened_boxes_.data() + 2 * opened_stride_};
+  const Real* const hi[3] = {lo[2] + opened_stride_, lo[2] + 2 * opened_stride_, lo[2] + 3 * opened_stride_};
   const BoxKernel kernel = box_kernel(settings_.simd);
   std::uint32_t* hits = cell_hits_.data();
   for (const ClusterPair& cp : cluster_pair_list_) {
@@ -229,12 +216,12 @@ void OhcBroadPhase::emit_cluster_pairs(std::span<const CollisionObject> objects,
       if (a_lo[0] > b_hi[0] || b_lo[0] > a_hi[0] || a_lo[1] > b_hi[1] || b_lo[1] > a_hi[1] || a_lo[2] > b_hi[2] ||
           b_lo[2] > a_hi[2])
         continue;
-      const std::uint32_t n_hits = box_hits(kernel, clo, chi, inner_begin, inner_end, a_lo, a_hi, hits);
-      const Primitive& pa = primitives_[a];
+      const std::uint32_t n_hits = box_hits(kernel, lo, hi, inner_begin, inner_end, a_lo, a_hi, hits);
+      const OpenedId pa = opened_ids_[a];
       for (std::uint32_t k = 0; k < n_hits; ++k) {
-        const Primitive& pb = primitives_[hits[k]];
-        const Primitive& first = outer_first ? pa : pb;
-        const Primitive& second = outer_first ? pb : pa;
+        const OpenedId pb = opened_ids_[hits[k]];
+        const OpenedId first = outer_first ? pa : pb;
+        const OpenedId second = outer_first ? pb : pa;
         out.push_back({first.object, second.object, first.triangle, second.triangle});
       }
     }
