@@ -278,18 +278,33 @@ void narrow_phase(std::span<const CollisionObject> objects, std::span<const Cand
   using namespace narrow_detail;
   out.clear();
   const bool simd = allow_simd && cpu_has_avx2_fma();
+  const bool avx512 = simd && cpu_has_avx512();
   ScalarStage scalar;
   PlaneStage s;
   ExactBatch batch;
+  // How many candidates from k on share pairs[k]'s object pair (counted up to 8).
+  const auto same_objects = [&](std::size_t k) {
+    std::size_t run = 1;
+    while (run < 8 && k + run < pairs.size() && pairs[k + run].object_a == pairs[k].object_a &&
+           pairs[k + run].object_b == pairs[k].object_b)
+      ++run;
+    return run;
+  };
   for (std::size_t k = 0; k < pairs.size();) {
     const CandidatePair& pair = pairs[k];
     const CollisionObject& oa = objects[pair.object_a];
     const CollisionObject& ob = objects[pair.object_b];
-    // Four candidates of one object pair at a time on the AVX2 path; the rest one by one.
-    if (simd && k + 4 <= pairs.size() && pairs[k + 3].object_a == pair.object_a &&
-        pairs[k + 3].object_b == pair.object_b && pairs[k + 1].object_a == pair.object_a &&
-        pairs[k + 1].object_b == pair.object_b && pairs[k + 2].object_a == pair.object_a &&
-        pairs[k + 2].object_b == pair.object_b) {
+    // Eight (AVX-512) or four (AVX2) candidates of one object pair at a time; the rest one by one.
+    const std::size_t run = simd ? same_objects(k) : 1;
+    if (run == 8 && avx512) {
+      const int keep = reject8_avx512(oa, ob, &pairs[k]);
+      for (int lane = 0; lane < 8; ++lane) {
+        if (keep >> lane & 1) batch.add(objects, pairs[k + static_cast<std::size_t>(lane)], out);
+      }
+      k += 8;
+      continue;
+    }
+    if (run >= 4) {
       const int keep = reject4_avx2(oa, ob, &pairs[k]);
       for (int lane = 0; lane < 4; ++lane) {
         if (keep >> lane & 1) batch.add(objects, pairs[k + static_cast<std::size_t>(lane)], out);
