@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstddef>
 #include <limits>
 #include <stdexcept>
 
+#include "trocar/collision/ohc_simd.h"
 #include "trocar/core/cpu_features.h"
 
 #if defined(__SSE2__)
@@ -505,6 +507,12 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
                            opened_boxes_.data() + 2 * opened_stride_};
   Real* const box_hi[3] = {box_lo[2] + opened_stride_, box_lo[2] + 2 * opened_stride_, box_lo[2] + 3 * opened_stride_};
   std::uint32_t opened = 0;  // triangles that passed
+  // Eight triangles at a time where the CPU has AVX-512 (the same triangles and boxes).
+  const bool avx512 = settings_.simd && cpu_has_avx512();
+  static_assert(sizeof(OpenedId) == 8 && offsetof(OpenedId, object) == 0, "the AVX-512 kernel writes ids as 64 bits");
+  const ohc_detail::OpenedArrays opened_arrays = {{box_lo[0], box_lo[1], box_lo[2]},
+                                                  {box_hi[0], box_hi[1], box_hi[2]},
+                                                  reinterpret_cast<std::uint64_t*>(opened_ids_.data())};
   for (std::uint32_t i = 0; i < n; ++i) {
     const Aabb& region = regions_[i];
     if (region.is_empty()) continue;
@@ -541,6 +549,15 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
       const Real g_lo[3] = {clip_grown.min.x(), clip_grown.min.y(), clip_grown.min.z()};
       const Real g_hi[3] = {clip_grown.max.x(), clip_grown.max.y(), clip_grown.max.z()};
       const std::uint32_t end = std::min(triangle_count, (k + 1) * kClusterTriangles);
+      if (avx512) {
+        const Real c_lo[3] = {clip.min.x(), clip.min.y(), clip.min.z()};
+        const Real c_hi[3] = {clip.max.x(), clip.max.y(), clip.max.z()};
+        const std::uint32_t o = k * kClusterTriangles;
+        opened = ohc_detail::open_cluster_avx512(p, c.ordered.data() + o, c.order.data() + o, end - o, i, c_lo, c_hi,
+                                                 g_lo, g_hi, opened_arrays, opened);
+        if (by_cluster) c.prim_count[k] = opened - first_prim;
+        continue;
+      }
       for (std::uint32_t o = k * kClusterTriangles; o < end; ++o) {
         const Triangle& tri = c.ordered[o];
         const Vec3& a = p[tri[0]];
