@@ -1,8 +1,8 @@
 // intersect_triangles (src/trocar/geometry/triangle_triangle.cpp) on four pairs at once, bit for
 // bit, for the common case: both triangles proper, finite, crossing each other's plane with no
-// vertex within the tolerance of the other plane, ordered along nA × nB. Every other lane
-// (coplanar, degenerate, a vertex on the other plane, nearly parallel planes, non-finite input)
-// is left to the scalar function. Each lane runs the scalar code's operations in the scalar
+// vertex within the tolerance of the other plane. Every other lane (coplanar, degenerate, a
+// vertex on the other plane, two single-point traces, non-finite input) is left to the scalar
+// function. Each lane runs the scalar code's operations in the scalar
 // code's order (Eigen's dot and squaredNorm sum x, y, then z; cross products by the textbook
 // formula; divisions, not reciprocals), compiled for AVX2 without FMA so that nothing can be
 // contracted: IEEE arithmetic is then the same in a lane as in a scalar register. Branches
@@ -191,13 +191,19 @@ __attribute__((target("avx2"))) int exact4_avx2(const Vec3* const (&c)[4][6], Tr
   const V3 line = cross(a.n, b.n);
   const __m256d line_len = _mm256_sqrt_pd(dot(line, line));
   const __m256d longest = _mm256_blendv_pd(len_a, len_b, lt(len_a, len_b));  // std::max
-  // The ordering direction nA × nB; the scalar code's other choices are left to it.
+  // The ordering direction: nA × nB where it is the better conditioned, else the longer trace's
+  // own direction (a's on a tie); two single-point traces are left to the scalar code.
   const __m256d by_line = both(lt(zero, line_len), le(longest, _mm256_mul_pd(line_len, size)));
-  handled = both(handled, either(apart, by_line));
+  handled = both(handled, either(apart, either(by_line, lt(zero, longest))));
   const int lanes = _mm256_movemask_pd(handled);
   if (lanes == 0) return 0;
 
-  const V3 u = divide(line, line_len);
+  V3 u = divide(line, line_len);
+  if (_mm256_movemask_pd(_mm256_andnot_pd(either(apart, by_line), handled)) != 0) {
+    const V3 along_a = divide(sub(ta.p1, ta.p0), len_a);
+    const V3 along_b = divide(sub(tb.p1, tb.p0), len_b);
+    u = select(select(along_b, along_a, le(len_b, len_a)), u, by_line);
+  }
   __m256d t_a0 = dot(u, ta.p0), t_a1 = dot(u, ta.p1), t_b0 = dot(u, tb.p0), t_b1 = dot(u, tb.p1);
   const __m256d swap_a = lt(t_a1, t_a0);
   const __m256d swap_b = lt(t_b1, t_b0);
