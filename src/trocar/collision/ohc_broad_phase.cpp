@@ -7,7 +7,7 @@
 #include <limits>
 #include <stdexcept>
 
-#include "trocar/collision/ohc_simd.h"
+#include "trocar/collision/ohc_kernels.h"
 #include "trocar/core/cpu_features.h"
 
 #if defined(__SSE2__)
@@ -63,14 +63,6 @@ bool raw_box_outside(const Vec3& a, const Vec3& b, const Vec3& c, const Real (&g
   return outside;
 #endif
 }
-
-// How far ahead (in cluster vertex entries, ~40 clusters or 30 KB of positions) the refit
-// prefetches positions (into L2). Measured on the 720K sheet (bench_collision, scene c): 48
-// entries 1.8 ms per frame, 160 1.5 ms, 640 1.2 ms, 1280 1.1 ms, 2560 1.1 ms; memory latency
-// here is long compared with the ~1.5 ns a vertex takes.
-constexpr std::uint32_t kRefitPrefetch = 1280;
-// Objects with more vertices than this (1.5 MB of positions, beyond a core's L2) are prefetched.
-constexpr std::size_t kRefitPrefetchVertices = 65536;
 
 // Spreads the low 21 bits of x to every third bit (Morton code helper).
 std::uint64_t spread_bits(std::uint64_t x) {
@@ -137,11 +129,24 @@ void OhcBroadPhase::build_clusters(ObjectClusters& c, const CollisionObject& obj
     for (const std::uint32_t v : ids) c.vertices.push_back(3 * v);
     c.vertex_start[k + 1] = static_cast<std::uint32_t>(c.vertices.size());
   }
+  const std::uint32_t groups = (clusters + kGroupClusters - 1) / kGroupClusters;
+  c.group_start.assign(groups + 1, 0);
+  c.group_vertices.clear();
+  for (std::uint32_t g = 0; g < groups; ++g) {
+    ids.assign(c.vertices.begin() + c.vertex_start[g * kGroupClusters],
+               c.vertices.begin() + c.vertex_start[std::min(clusters, (g + 1) * kGroupClusters)]);
+    std::sort(ids.begin(), ids.end());
+    ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+    c.group_vertices.insert(c.group_vertices.end(), ids.begin(), ids.end());
+    c.group_start[g + 1] = static_cast<std::uint32_t>(c.group_vertices.size());
+  }
   // Padding read only by the refit's prefetch (vertex 0 exists whenever a cluster does).
-  c.vertices.insert(c.vertices.end(), kRefitPrefetch, 0u);
+  c.vertices.insert(c.vertices.end(), ohc_detail::kRefitPrefetch, 0u);
+  c.group_vertices.insert(c.group_vertices.end(), ohc_detail::kRefitPrefetch, 0u);
   c.boxes.resize(clusters);
   c.regions.assign(clusters, Aabb{});
-  c.groups.resize((clusters + kGroupClusters - 1) / kGroupClusters);
+  c.groups.resize(groups);
+  c.refitted.assign(groups, 0);
   c.touched.clear();
   c.touched.reserve(clusters);
   c.prim_first.assign(clusters, 0);
@@ -155,7 +160,39 @@ void OhcBroadPhase::expand_region(std::uint32_t object, std::uint32_t cluster, c
   c.regions[cluster].expand(box);
 }
 
-void OhcBroadPhase::cluster_cascade(std::uint32_t i, std::uint32_t j) {
+Aabb OhcBroadPhase::refit_groups(ObjectClusters& c, const CollisionObject& object, bool simd, bool all_clusters) {
+  Aabb box;
+  if (c.boxes.empty()) return box;
+  // The positions as flat doubles (Vec3 is three packed doubles); ids are offsets into them.
+  const Real* p = object.positions.data()->data();
+  const bool prefetch = object.positions.size() > ohc_detail::kRefitPrefetchVertices;
+  Real lo[3];
+  Real hi[3];
+  ohc_detail::refit_lists(p, c.group_vertices.data(), c.group_start.data(), c.groups.size(), c.groups.data(), lo, hi,
+                          true, simd, prefetch);
+  std::fill(c.refitted.begin(), c.refitted.end(), std::uint8_t{0});
+  if (all_clusters) {
+    for (std::size_t g = 0; g < c.groups.size(); ++g) refit_group_clusters(c, object, g, simd);
+  }
+  box.min = Vec3(lo[0], lo[1], lo[2]);
+  box.max = Vec3(hi[0], hi[1], hi[2]);
+  // The same inflation as object_box() (of the referenced vertices only).
+  return box.inflated(kBoxMargin * box.size().maxCoeff());
+}
+
+void OhcBroadPhase::refit_group_clusters(ObjectClusters& c, const CollisionObject& object, std::size_t g, bool simd) {
+  if (c.refitted[g]) return;
+  c.refitted[g] = 1;
+  const std::size_t first = g * kGroupClusters;
+  const std::size_t count = std::min<std::size_t>(kGroupClusters, c.boxes.size() - first);
+  Real lo[3];
+  Real hi[3];
+  ohc_detail::refit_lists(object.positions.data()->data(), c.vertices.data(), c.vertex_start.data() + first, count,
+                          c.boxes.data() + first, lo, hi, false, simd,
+                          object.positions.size() > ohc_detail::kRefitPrefetchVertices);
+}
+
+void OhcBroadPhase::cluster_cascade(std::span<const CollisionObject> objects, std::uint32_t i, std::uint32_t j) {
   // The clusters of i and j whose grown boxes touch the overlap of the object boxes, swept on
   // x: sorted by lower x, each item meets the later ones that start before it ends. A pair of
   // different sides whose grown boxes overlap adds their overlap to both clusters' regions.
@@ -167,14 +204,16 @@ void OhcBroadPhase::cluster_cascade(std::uint32_t i, std::uint32_t j) {
   sweep_.clear();
   for (std::uint32_t side = 0; side < 2; ++side) {
     const std::uint32_t object = side == 0 ? i : j;
-    const ObjectClusters& c = clusters_[object];
+    ObjectClusters& c = clusters_[object];
     const Real margin = margins_[object];
-    // Groups of kGroupClusters clusters first: a group box holds its clusters' boxes (min and
+    // Groups of kGroupClusters clusters first: a group box holds its clusters' vertices (min and
     // max are exact, and growing by the margin is monotone), so a group whose grown box misses
-    // the overlap has no cluster that touches it. (A NaN coordinate is left out of the group
-    // box; that cluster's own test below fails anyway.)
+    // the overlap has no cluster that touches it; only the groups that pass have their clusters'
+    // boxes refitted. (A NaN coordinate is left out of the group box; that cluster's own test
+    // below fails anyway.)
     for (std::size_t g = 0; g < c.groups.size(); ++g) {
       if (!c.groups[g].inflated(margin).overlaps(overlap)) continue;
+      refit_group_clusters(c, objects[object], g, settings_.simd);
       const auto first = static_cast<std::uint32_t>(g * kGroupClusters);
       const auto last = static_cast<std::uint32_t>(std::min<std::size_t>(c.boxes.size(), first + kGroupClusters));
       for (std::uint32_t k = first; k < last; ++k) {
@@ -214,192 +253,6 @@ void OhcBroadPhase::cluster_cascade(std::uint32_t i, std::uint32_t j) {
       ++stats_.cluster_pairs;
     }
   }
-}
-
-#if defined(__x86_64__) && defined(__GNUC__)
-#define TROCAR_OHC_AVX2 1
-// The refit with 256-bit registers: one 32-byte load brings a vertex's x, y, z (and the next
-// vertex's x in the fourth lane, which is never used), one min and one max per vertex; two
-// accumulators break the latency chain. Ids are ascending within a cluster, so only its last one
-// can be the array's last vertex: that one is loaded with the fourth lane masked, and nothing
-// past the positions array is read. Compiled for AVX2 whatever the build flags and used only
-// when the CPU has it (checked once). min/max of doubles are exact, so the boxes are
-// bit-identical to the scalar path's except possibly for the sign of a zero or which NaN.
-template <bool kPrefetch>
-__attribute__((target("avx2"))) static void refit_boxes_avx2(const Real* p, const std::uint32_t* ids,
-                                                             const std::uint32_t* vertex_start,
-                                                             std::size_t clusters, Aabb* boxes, Aabb* groups,
-                                                             Real* olo, Real* ohi) {
-  constexpr Real kInf = std::numeric_limits<Real>::infinity();
-  const __m256i mask = _mm256_setr_epi64x(-1, -1, -1, 0);
-  __m256d obj_lo = _mm256_set1_pd(kInf);
-  __m256d obj_hi = _mm256_set1_pd(-kInf);
-  __m256d group_lo = obj_lo;
-  __m256d group_hi = obj_hi;
-  for (std::size_t k = 0; k < clusters; ++k) {
-    const std::uint32_t begin = vertex_start[k];
-    const std::uint32_t end = vertex_start[k + 1];
-    __m256d lo0 = _mm256_set1_pd(kInf), lo1 = lo0, hi0 = _mm256_set1_pd(-kInf), hi1 = hi0;
-    // Pointers rather than 32-bit indices: no zero-extension per step. Four vertices per step,
-    // one prefetch per step (a prefetched line usually holds the next ids' vertices too).
-    const std::uint32_t* it = ids + begin;
-    const std::uint32_t* last = ids + end - 1;  // clusters are never empty
-    for (; it + 3 < last; it += 4) {
-      // Large meshes: the ids run on past this cluster (padded at the end), so the vertices ~40
-      // clusters ahead are requested now; positions just rewritten come from memory, and the
-      // clusters' scattered rows defeat the hardware prefetcher. (Small meshes sit in cache.)
-      if constexpr (kPrefetch) {
-        _mm_prefetch(reinterpret_cast<const char*>(p + it[kRefitPrefetch]), _MM_HINT_T1);
-        _mm_prefetch(reinterpret_cast<const char*>(p + it[kRefitPrefetch + 2]), _MM_HINT_T1);
-      }
-      const __m256d x0 = _mm256_loadu_pd(p + it[0]);
-      const __m256d x1 = _mm256_loadu_pd(p + it[1]);
-      const __m256d x2 = _mm256_loadu_pd(p + it[2]);
-      const __m256d x3 = _mm256_loadu_pd(p + it[3]);
-      lo0 = _mm256_min_pd(lo0, _mm256_min_pd(x0, x2));
-      hi0 = _mm256_max_pd(hi0, _mm256_max_pd(x0, x2));
-      lo1 = _mm256_min_pd(lo1, _mm256_min_pd(x1, x3));
-      hi1 = _mm256_max_pd(hi1, _mm256_max_pd(x1, x3));
-    }
-    for (; it < last; ++it) {
-      const __m256d x0 = _mm256_loadu_pd(p + *it);
-      lo0 = _mm256_min_pd(lo0, x0);
-      hi0 = _mm256_max_pd(hi0, x0);
-    }
-    const __m256d x_last = _mm256_maskload_pd(p + *last, mask);
-    lo1 = _mm256_min_pd(lo1, x_last);
-    hi1 = _mm256_max_pd(hi1, x_last);
-    const __m256d lo = _mm256_min_pd(lo0, lo1);
-    const __m256d hi = _mm256_max_pd(hi0, hi1);
-    alignas(32) Real l[4];
-    alignas(32) Real h[4];
-    _mm256_store_pd(l, lo);
-    _mm256_store_pd(h, hi);
-    boxes[k].min = Vec3(l[0], l[1], l[2]);
-    boxes[k].max = Vec3(h[0], h[1], h[2]);
-    obj_lo = _mm256_min_pd(lo, obj_lo);  // = std::min(obj_lo, lo), NaN included
-    obj_hi = _mm256_max_pd(hi, obj_hi);
-    group_lo = _mm256_min_pd(lo, group_lo);
-    group_hi = _mm256_max_pd(hi, group_hi);
-    if ((k + 1) % OhcBroadPhase::kGroupClusters == 0 || k + 1 == clusters) {
-      _mm256_store_pd(l, group_lo);
-      _mm256_store_pd(h, group_hi);
-      groups[k / OhcBroadPhase::kGroupClusters].min = Vec3(l[0], l[1], l[2]);
-      groups[k / OhcBroadPhase::kGroupClusters].max = Vec3(h[0], h[1], h[2]);
-      group_lo = _mm256_set1_pd(kInf);
-      group_hi = _mm256_set1_pd(-kInf);
-    }
-  }
-  alignas(32) Real l[4];
-  alignas(32) Real h[4];
-  _mm256_store_pd(l, obj_lo);
-  _mm256_store_pd(h, obj_hi);
-  for (int a = 0; a < 3; ++a) {
-    olo[a] = l[a];
-    ohi[a] = h[a];
-  }
-}
-
-#endif
-
-Aabb OhcBroadPhase::refit_clusters(ObjectClusters& c, const CollisionObject& object, bool simd) {
-  // The positions as flat doubles (Vec3 is three packed doubles); ids are offsets into them.
-  const Real* p = object.positions.empty() ? nullptr : object.positions.data()->data();
-  const std::uint32_t* ids = c.vertices.data();
-  constexpr Real kInf = std::numeric_limits<Real>::infinity();
-  Real olo[3] = {kInf, kInf, kInf};
-  Real ohi[3] = {-kInf, -kInf, -kInf};
-  Real group_lo[3] = {kInf, kInf, kInf};  // the scalar path's current group
-  Real group_hi[3] = {-kInf, -kInf, -kInf};
-  std::size_t first_sse_cluster = 0;  // all clusters when the AVX2 path ran
-#if defined(TROCAR_OHC_AVX2)
-  if (simd && cpu_has_avx2()) {
-    if (object.positions.size() > kRefitPrefetchVertices) {
-      refit_boxes_avx2<true>(p, ids, c.vertex_start.data(), c.boxes.size(), c.boxes.data(), c.groups.data(), olo,
-                             ohi);
-    } else {
-      refit_boxes_avx2<false>(p, ids, c.vertex_start.data(), c.boxes.size(), c.boxes.data(), c.groups.data(), olo,
-                              ohi);
-    }
-    first_sse_cluster = c.boxes.size();
-  }
-#endif
-  for (std::size_t k = first_sse_cluster; k + 1 < c.vertex_start.size(); ++k) {
-    const std::uint32_t begin = c.vertex_start[k];
-    const std::uint32_t end = c.vertex_start[k + 1];
-    Real lo[3];
-    Real hi[3];
-#if defined(__SSE2__)
-    // x and y packed in one register, z alone; two accumulators break the min/max latency chain
-    // (this loop is the one pass over the positions that the cascade needs).
-    __m128d lo_xy0 = _mm_set1_pd(kInf), lo_xy1 = lo_xy0, hi_xy0 = _mm_set1_pd(-kInf), hi_xy1 = hi_xy0;
-    __m128d lo_z0 = _mm_set_sd(kInf), lo_z1 = lo_z0, hi_z0 = _mm_set_sd(-kInf), hi_z1 = hi_z0;
-    std::uint32_t i = begin;
-    for (; i + 1 < end; i += 2) {
-      const Real* x0 = p + ids[i];
-      const Real* x1 = p + ids[i + 1];
-      const __m128d xy0 = _mm_loadu_pd(x0);
-      const __m128d xy1 = _mm_loadu_pd(x1);
-      const __m128d z0 = _mm_load_sd(x0 + 2);
-      const __m128d z1 = _mm_load_sd(x1 + 2);
-      lo_xy0 = _mm_min_pd(lo_xy0, xy0);
-      hi_xy0 = _mm_max_pd(hi_xy0, xy0);
-      lo_xy1 = _mm_min_pd(lo_xy1, xy1);
-      hi_xy1 = _mm_max_pd(hi_xy1, xy1);
-      lo_z0 = _mm_min_sd(lo_z0, z0);
-      hi_z0 = _mm_max_sd(hi_z0, z0);
-      lo_z1 = _mm_min_sd(lo_z1, z1);
-      hi_z1 = _mm_max_sd(hi_z1, z1);
-    }
-    if (i < end) {
-      const Real* x0 = p + ids[i];
-      const __m128d xy0 = _mm_loadu_pd(x0);
-      const __m128d z0 = _mm_load_sd(x0 + 2);
-      lo_xy0 = _mm_min_pd(lo_xy0, xy0);
-      hi_xy0 = _mm_max_pd(hi_xy0, xy0);
-      lo_z0 = _mm_min_sd(lo_z0, z0);
-      hi_z0 = _mm_max_sd(hi_z0, z0);
-    }
-    _mm_storeu_pd(lo, _mm_min_pd(lo_xy0, lo_xy1));
-    _mm_storeu_pd(hi, _mm_max_pd(hi_xy0, hi_xy1));
-    _mm_store_sd(lo + 2, _mm_min_sd(lo_z0, lo_z1));
-    _mm_store_sd(hi + 2, _mm_max_sd(hi_z0, hi_z1));
-#else
-    for (int a = 0; a < 3; ++a) {
-      lo[a] = kInf;
-      hi[a] = -kInf;
-    }
-    for (std::uint32_t i = begin; i < end; ++i) {
-      const Real* x = p + ids[i];
-      for (int a = 0; a < 3; ++a) {
-        lo[a] = std::min(lo[a], x[a]);
-        hi[a] = std::max(hi[a], x[a]);
-      }
-    }
-#endif
-    c.boxes[k].min = Vec3(lo[0], lo[1], lo[2]);
-    c.boxes[k].max = Vec3(hi[0], hi[1], hi[2]);
-    for (int a = 0; a < 3; ++a) {
-      olo[a] = std::min(olo[a], lo[a]);
-      ohi[a] = std::max(ohi[a], hi[a]);
-      group_lo[a] = std::min(group_lo[a], lo[a]);
-      group_hi[a] = std::max(group_hi[a], hi[a]);
-    }
-    if ((k + 1) % kGroupClusters == 0 || k + 2 == c.vertex_start.size()) {
-      c.groups[k / kGroupClusters].min = Vec3(group_lo[0], group_lo[1], group_lo[2]);
-      c.groups[k / kGroupClusters].max = Vec3(group_hi[0], group_hi[1], group_hi[2]);
-      for (int a = 0; a < 3; ++a) {
-        group_lo[a] = kInf;
-        group_hi[a] = -kInf;
-      }
-    }
-  }
-  Aabb box;
-  if (c.boxes.empty()) return box;
-  box.min = Vec3(olo[0], olo[1], olo[2]);
-  box.max = Vec3(ohi[0], ohi[1], ohi[2]);
-  // The same inflation as object_box() (of the referenced vertices only).
-  return box.inflated(kBoxMargin * box.size().maxCoeff());
 }
 
 void OhcBroadPhase::cell_range(Primitive& prim, Real inv_h) {
@@ -449,7 +302,8 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
         c.vertex_count != object.positions.size()) {
       build_clusters(c, object);  // first frame or another object: allocates
     }
-    boxes_[i] = refit_clusters(c, object, settings_.simd);
+    // Without the cluster level every cluster may open: all their boxes now.
+    boxes_[i] = refit_groups(c, object, settings_.simd, !(settings_.cascade && settings_.cluster_cascade));
   }
   const bool by_cluster = settings_.cascade && settings_.cluster_cascade;
   margins_.resize(n);
@@ -478,7 +332,7 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
         const Aabb overlap = boxes_[i].intersection(boxes_[j]);
         regions_[i].expand(overlap);
         regions_[j].expand(overlap);
-        if (by_cluster) cluster_cascade(i, j);
+        if (by_cluster) cluster_cascade(objects, i, j);
       } else {
         regions_[i] = boxes_[i];
         regions_[j] = boxes_[j];

@@ -151,8 +151,15 @@ class OhcBroadPhase final : public BroadPhase {
     /// Each cluster's distinct vertices, ascending, as offsets in doubles into the positions
     /// (3 × vertex id; meshes have far fewer than 2³²/3 vertices).
     std::vector<std::uint32_t> vertices;
-    std::vector<Aabb> boxes;                  ///< per cluster: box of its vertices this frame
-    std::vector<Aabb> groups;                 ///< per kGroupClusters clusters: their boxes' union
+    std::vector<Aabb> boxes;                  ///< per cluster: box of its vertices (see refitted)
+    /// Per kGroupClusters clusters: the distinct vertices of their clusters, as `vertices`
+    /// (group_start: per group, first entry in group_vertices, + end). The refit reads these
+    /// lists every frame (each vertex about once) and the clusters' lists only of the groups the
+    /// cluster sweep meets.
+    std::vector<std::uint32_t> group_start;
+    std::vector<std::uint32_t> group_vertices;
+    std::vector<Aabb> groups;                 ///< per group: box of its vertices this frame
+    std::vector<std::uint8_t> refitted;       ///< per group: its clusters' boxes are this frame's
     /// Per cluster, this frame: bounding box of its (grown) box's overlaps with the (grown)
     /// boxes of its partners' clusters (empty: not opened). Used by the cluster cascade only.
     std::vector<Aabb> regions;
@@ -177,8 +184,11 @@ class OhcBroadPhase final : public BroadPhase {
   };
 
   static void build_clusters(ObjectClusters& c, const CollisionObject& object);
-  static Aabb refit_clusters(ObjectClusters& c, const CollisionObject& object, bool simd);
-  void cluster_cascade(std::uint32_t i, std::uint32_t j);
+  /// The group boxes (all clusters' too when `all_clusters`); returns the object box.
+  static Aabb refit_groups(ObjectClusters& c, const CollisionObject& object, bool simd, bool all_clusters);
+  /// The boxes of group g's clusters, once per frame.
+  static void refit_group_clusters(ObjectClusters& c, const CollisionObject& object, std::size_t g, bool simd);
+  void cluster_cascade(std::span<const CollisionObject> objects, std::uint32_t i, std::uint32_t j);
   /// The primitive's first and last cells per axis (lo, hi) for cells of edge 1 / inv_h.
   static void cell_range(Primitive& prim, Real inv_h);
   void expand_region(std::uint32_t object, std::uint32_t cluster, const Aabb& box);

@@ -3,7 +3,7 @@
 // grown clip region, the inflated box (triangle_box: kBoxMargin of its largest side) clipped to
 // the region, and the survivors compressed into the opened arrays. Min, max, the margin's one
 // product and its sums are the scalar loop's operations, so the boxes are the same.
-#include "trocar/collision/ohc_simd.h"
+#include "trocar/collision/ohc_kernels.h"
 
 #include <cstdlib>
 
