@@ -87,7 +87,10 @@ __attribute__((target("avx512f,avx512vl,avx512dq,avx2"))) std::uint32_t open_clu
     // Inflated by kBoxMargin of the largest side, then clipped; empty ones dropped.
     const __m512d side = _mm512_max_pd(_mm512_max_pd(_mm512_sub_pd(hi[0], lo[0]), _mm512_sub_pd(hi[1], lo[1])),
                                        _mm512_sub_pd(hi[2], lo[2]));
-    const __m512d margin = _mm512_mul_pd(_mm512_set1_pd(kBoxMargin), side);
+    __m512d margin = _mm512_mul_pd(_mm512_set1_pd(kBoxMargin), side);
+    // The product rounded on its own, as in the scalar code: with AVX-512 (and so FMA) enabled,
+    // GCC would fuse it into the sums below (-ffp-contract=fast), which rounds differently.
+    asm("" : "+v"(margin));
     __m512d box_lo[3];
     __m512d box_hi[3];
     for (int k = 0; k < 3; ++k) {
