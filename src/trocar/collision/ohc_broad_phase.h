@@ -215,6 +215,7 @@ class OhcBroadPhase final : public BroadPhase {
   std::vector<OpenedId> opened_ids_;
   std::size_t opened_stride_ = 0;
   std::vector<Primitive> primitives_;  // the cell hash's copy of them, with cell ranges
+  std::vector<CandidatePair> pair_scratch_;  // emit_cluster_pairs' AVX-512 output (grows only)
   std::vector<Real> margins_;          // per object: bound on its triangles' box margins
   std::vector<SweepItem> sweep_;       // cluster_cascade scratch (reserved for all clusters)
   std::vector<ClusterPair> cluster_pair_list_;  // this frame's overlapping cluster pairs
