@@ -1,4 +1,4 @@
-// The narrow phase's four-lane exact test (narrow_detail::exact4_avx2) against
+// The narrow phase's vector exact tests (narrow_detail::exact4_avx2, exact8_avx512) against
 // intersect_triangles, bit for bit, on every lane it answers: random crossing pairs at all
 // scales and offsets, touching and near-parallel ones, mixed with lanes it must leave alone.
 #include <gtest/gtest.h>
@@ -55,34 +55,48 @@ void expect_same(const TriTriResult& e, const TriTriResult& a, long index) {
   ASSERT_EQ(e.q, a.q) << "pair " << index;
 }
 
-TEST(ExactBatch, MatchesIntersectTrianglesBitForBit) {
-  if (!cpu_has_avx2()) GTEST_SKIP() << "no AVX2 here (or TROCAR_SIMD=off)";
+// Runs `kernel` (kLanes lanes) on random batches; every lane it answers must equal
+// intersect_triangles bit for bit.
+template <int kLanes, class Kernel>
+void expect_kernel_matches(Kernel kernel) {
   std::mt19937 rng(2024);
   long answered = 0;
   long hits = 0;
-  constexpr long kBatches = 100000;
-  for (long batch = 0; batch < kBatches; ++batch) {
-    Pair pairs[4];
-    const Vec3* corners[4][6];
-    for (int k = 0; k < 4; ++k) {
+  constexpr long kPairs = 400000;
+  for (long batch = 0; batch < kPairs / kLanes; ++batch) {
+    Pair pairs[kLanes];
+    const Vec3* corners[kLanes][6];
+    for (int k = 0; k < kLanes; ++k) {
       pairs[k] = random_pair(rng);
       for (int c = 0; c < 6; ++c) corners[k][c] = &pairs[k][c];
     }
-    TriTriResult r[4];
-    const int done = narrow_detail::exact4_avx2(corners, r);
-    for (int k = 0; k < 4; ++k) {
+    TriTriResult r[kLanes];
+    const int done = kernel(corners, r);
+    for (int k = 0; k < kLanes; ++k) {
       if (!(done >> k & 1)) continue;
       const Pair& p = pairs[k];
       const TriTriResult e = intersect_triangles(p[0], p[1], p[2], p[3], p[4], p[5]);
-      expect_same(e, r[k], 4 * batch + k);
+      expect_same(e, r[k], kLanes * batch + k);
       ++answered;
       hits += e.intersects ? 1 : 0;
-      if (HasFatalFailure()) return;
+      if (::testing::Test::HasFatalFailure()) return;
     }
   }
   // Most lanes are the common case, and many of those cross.
-  EXPECT_GT(answered, 4 * kBatches / 2);
+  EXPECT_GT(answered, kPairs / 2);
   EXPECT_GT(hits, answered / 5);
+}
+
+TEST(ExactBatch, FourLanesMatchIntersectTrianglesBitForBit) {
+  if (!cpu_has_avx2()) GTEST_SKIP() << "no AVX2 here (or TROCAR_SIMD=off)";
+  expect_kernel_matches<4>(
+      [](const Vec3* const (&c)[4][6], TriTriResult (&r)[4]) { return narrow_detail::exact4_avx2(c, r); });
+}
+
+TEST(ExactBatch, EightLanesMatchIntersectTrianglesBitForBit) {
+  if (!cpu_has_avx512()) GTEST_SKIP() << "no AVX-512 here (or TROCAR_SIMD=off)";
+  expect_kernel_matches<8>(
+      [](const Vec3* const (&c)[8][6], TriTriResult (&r)[8]) { return narrow_detail::exact8_avx512(c, r); });
 }
 
 }  // namespace

@@ -181,19 +181,33 @@ void exact_candidate(const CollisionObject& oa, const CollisionObject& ob, const
 
 namespace {
 
-// The candidates the AVX2 rejection tests keep, up to four, for exact4_avx2 (those it leaves go
-// through intersect_triangles one by one). The same contacts as one exact_candidate() each.
+// The candidates the vector rejection tests keep, up to eight (AVX-512) or four (AVX2), for the
+// vector exact test (those it leaves go through intersect_triangles one by one). The same
+// contacts as one exact_candidate() each.
 class ExactBatch {
  public:
+  explicit ExactBatch(bool avx512) : capacity_(avx512 ? 8 : 4) {}
+
   void add(std::span<const CollisionObject> objects, const CandidatePair& pair, std::vector<Contact>& out) {
     pairs_[count_++] = &pair;
-    if (count_ == 4) flush(objects, out);
+    if (count_ == capacity_) flush(objects, out);
   }
 
   void flush(std::span<const CollisionObject> objects, std::vector<Contact>& out) {
     if (count_ == 0) return;
-    const Vec3* corners[4][6];
-    for (int k = 0; k < 4; ++k) {
+    if (capacity_ == 8) {
+      run<8>(objects, out, [](const Vec3* const (&c)[8][6], TriTriResult (&r)[8]) { return exact8_avx512(c, r); });
+    } else {
+      run<4>(objects, out, [](const Vec3* const (&c)[4][6], TriTriResult (&r)[4]) { return exact4_avx2(c, r); });
+    }
+    count_ = 0;
+  }
+
+ private:
+  template <int kLanes, class Kernel>
+  void run(std::span<const CollisionObject> objects, std::vector<Contact>& out, Kernel kernel) {
+    const Vec3* corners[kLanes][6];
+    for (int k = 0; k < kLanes; ++k) {
       const CandidatePair& pair = *pairs_[k < count_ ? k : 0];  // spare lanes repeat the first
       const CollisionObject& oa = objects[pair.object_a];
       const CollisionObject& ob = objects[pair.object_b];
@@ -204,8 +218,8 @@ class ExactBatch {
         corners[k][3 + c] = &ob.positions[tb[c]];
       }
     }
-    TriTriResult r[4];
-    const int done = exact4_avx2(corners, r);
+    TriTriResult r[kLanes];
+    const int done = kernel(corners, r);
     for (int k = 0; k < count_; ++k) {
       const CandidatePair& pair = *pairs_[k];
       const CollisionObject& oa = objects[pair.object_a];
@@ -216,12 +230,11 @@ class ExactBatch {
         exact_candidate(oa, ob, pair, out);
       }
     }
-    count_ = 0;
   }
 
- private:
-  const CandidatePair* pairs_[4] = {};
+  const CandidatePair* pairs_[8] = {};
   int count_ = 0;
+  int capacity_;
 };
 
 }  // namespace
@@ -281,7 +294,7 @@ void narrow_phase(std::span<const CollisionObject> objects, std::span<const Cand
   const bool avx512 = simd && cpu_has_avx512();
   ScalarStage scalar;
   PlaneStage s;
-  ExactBatch batch;
+  ExactBatch batch(avx512);
   // How many candidates from k on share pairs[k]'s object pair (counted up to 8).
   const auto same_objects = [&](std::size_t k) {
     std::size_t run = 1;

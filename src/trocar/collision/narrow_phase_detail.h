@@ -31,5 +31,7 @@ int reject8_avx512(const CollisionObject& oa, const CollisionObject& ob, const C
 /// tolerance of the other plane); returns the mask of the lanes it answered in r, the others are
 /// left to intersect_triangles. Requires cpu_has_avx2().
 int exact4_avx2(const Vec3* const (&c)[4][6], TriTriResult (&r)[4]);
+/// The same on eight pairs (AVX-512). Requires cpu_has_avx512().
+int exact8_avx512(const Vec3* const (&c)[8][6], TriTriResult (&r)[8]);
 
 }  // namespace trocar::narrow_detail
