@@ -63,11 +63,18 @@ __attribute__((target("avx512f,avx512vl,avx512dq,avx2"))) std::uint32_t open_clu
   for (std::uint32_t first = 0; first < count; first += 8) {
     const std::uint32_t lanes = count - first < 8 ? count - first : 8;
     const auto valid = static_cast<__mmask8>((1u << lanes) - 1u);
-    // Corner k of the eight triangles (spare lanes repeat the first triangle).
+    // Corner k of the eight triangles; a last, short batch is padded with its first triangle
+    // (a copy, so that full batches index without a select per lane).
+    const Triangle* tri = ordered + first;
+    Triangle padded[8];
+    if (lanes < 8) {
+      for (std::uint32_t t = 0; t < 8; ++t) padded[t] = tri[t < lanes ? t : 0];
+      tri = padded;
+    }
     W3 corner[3];
     for (int k = 0; k < 3; ++k) {
       const double* p[8];
-      for (std::uint32_t t = 0; t < 8; ++t) p[t] = positions[ordered[first + (t < lanes ? t : 0)][k]].data();
+      for (std::uint32_t t = 0; t < 8; ++t) p[t] = positions[tri[t][static_cast<std::size_t>(k)]].data();
       corner[k] = load8(p);
     }
     // Raw box: min(min(a, b), c) with std::min's operand order (min_pd returns its second operand
