@@ -250,6 +250,20 @@ TEST(BroadPhaseAdversarial, RigidRigidNotTestedSameObjectNeverPaired) {
   EXPECT_TRUE(expect_all_agree(objects, "rigid-rigid").empty());
 }
 
+TEST(BroadPhaseAdversarial, ManyClusterPairsTakeTheSweep) {
+  // Two copies of a 5,120-triangle sphere: 160 clusters on each side, 160 × 160 pairs of them
+  // to consider (over the 1,024 the cascade tests one by one), so it sorts and sweeps them.
+  Scene scene;
+  scene.add(make_icosphere(1.0, 4), ObjectRole::kInstrument);
+  scene.add(make_icosphere(1.0, 4), ObjectRole::kTissue);
+  const auto objects = scene.objects();
+  const auto contacts = expect_all_agree(objects, "identical L4", false);
+  EXPECT_GE(contacts.size(), 5120u * 4u);
+  CollisionDetector ohc;
+  ohc.detect(objects);
+  EXPECT_GT(ohc.ohc_stats()->cluster_pairs, 500u);
+}
+
 TEST(BroadPhaseAdversarial, IdenticalOverlappingMeshes) {
   // Two copies of one mesh: every triangle touches itself and its neighbours (shared vertices
   // and edges, coplanar pairs), the worst case for tolerances.

@@ -64,6 +64,10 @@ bool raw_box_outside(const Vec3& a, const Vec3& b, const Vec3& c, const Real (&g
 #endif
 }
 
+// Up to this many (cluster of one object, cluster of the other) pairs the cluster cascade tests
+// them all instead of sorting the clusters for a sweep.
+constexpr std::size_t kAllPairsClusters = 1024;
+
 // Spreads the low 21 bits of x to every third bit (Morton code helper).
 std::uint64_t spread_bits(std::uint64_t x) {
   x &= 0x1fffff;
@@ -222,6 +226,26 @@ void OhcBroadPhase::cluster_cascade(std::span<const CollisionObject> objects, st
         if (grown.overlaps(overlap)) sweep_.push_back({grown, side, k});
       }
     }
+  }
+  // Few clusters on the two sides (the usual case: a tool against the patch it presses on):
+  // every pair of the two sides is tested, which costs less than sorting for the sweep. The same
+  // pairs either way; only their order differs.
+  const auto side0 = static_cast<std::size_t>(
+      std::find_if(sweep_.begin(), sweep_.end(), [](const SweepItem& item) { return item.side == 1; }) - sweep_.begin());
+  if (side0 * (sweep_.size() - side0) <= kAllPairsClusters) {
+    for (std::size_t a = 0; a < side0; ++a) {
+      const SweepItem& p = sweep_[a];
+      for (std::size_t b = side0; b < sweep_.size(); ++b) {
+        const SweepItem& q = sweep_[b];
+        if (!p.box.overlaps(q.box)) continue;
+        const Aabb both = p.box.intersection(q.box);
+        expand_region(i, p.cluster, both);
+        expand_region(j, q.cluster, both);
+        cluster_pair_list_.push_back({both, i, p.cluster, j, q.cluster});
+        ++stats_.cluster_pairs;
+      }
+    }
+    return;
   }
   std::sort(sweep_.begin(), sweep_.end(), [](const SweepItem& a, const SweepItem& b) {
     if (a.box.min.x() != b.box.min.x()) return a.box.min.x() < b.box.min.x();
