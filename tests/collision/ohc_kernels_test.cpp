@@ -1,6 +1,7 @@
 // The OHC's AVX-512 opening of a cluster (ohc_detail::open_cluster_avx512) against the scalar
 // loop's definition: the triangles whose raw box touches the grown region and whose inflated box
-// (triangle_box) clipped to the region is not empty, with those boxes bit for bit.
+// (triangle_box) clipped to the region is not empty, with those boxes and their extents along
+// the six more directions (ohc_detail::dop_extents) bit for bit.
 #include <gtest/gtest.h>
 
 #include <random>
@@ -19,7 +20,7 @@ TEST(OhcKernels, OpenClusterMatchesScalarBitForBit) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   std::uniform_int_distribution<int> pick(0, 199);
   std::vector<Vec3> positions(200);
-  std::vector<Real> arrays(6 * 48);
+  std::vector<Real> arrays(18 * 48);
   std::vector<std::uint64_t> ids(48);
   std::size_t kept = 0;
   for (int trial = 0; trial < 2000; ++trial) {
@@ -43,7 +44,11 @@ TEST(OhcKernels, OpenClusterMatchesScalarBitForBit) {
     const Real g_lo[3] = {grown.min.x(), grown.min.y(), grown.min.z()};
     const Real g_hi[3] = {grown.max.x(), grown.max.y(), grown.max.z()};
     Real* base = arrays.data();
-    const ohc_detail::OpenedArrays out = {{base, base + 48, base + 96}, {base + 144, base + 192, base + 240}, ids.data()};
+    ohc_detail::OpenedArrays out = {{base, base + 48, base + 96}, {base + 144, base + 192, base + 240}, {}, {}, ids.data()};
+    for (int d = 0; d < ohc_detail::kDopAxes; ++d) {
+      out.dop_lo[d] = base + 48 * (6 + d);
+      out.dop_hi[d] = base + 48 * (12 + d);
+    }
     const std::uint32_t at = 3;  // written after three earlier entries
     const std::uint32_t end = ohc_detail::open_cluster_avx512(positions.data(), ordered.data(), order.data(), count,
                                                              7, c_lo, c_hi, g_lo, g_hi, out, at);
@@ -60,6 +65,13 @@ TEST(OhcKernels, OpenClusterMatchesScalarBitForBit) {
       for (int k = 0; k < 3; ++k) {
         EXPECT_EQ(out.lo[k][e], box.min[k]) << "trial " << trial << " triangle " << t;
         EXPECT_EQ(out.hi[k][e], box.max[k]) << "trial " << trial << " triangle " << t;
+      }
+      Real d_lo[ohc_detail::kDopAxes];
+      Real d_hi[ohc_detail::kDopAxes];
+      ohc_detail::dop_extents(a, b, c, d_lo, d_hi);
+      for (int d = 0; d < ohc_detail::kDopAxes; ++d) {
+        EXPECT_EQ(out.dop_lo[d][e], d_lo[d]) << "trial " << trial << " triangle " << t << " direction " << d;
+        EXPECT_EQ(out.dop_hi[d][e], d_hi[d]) << "trial " << trial << " triangle " << t << " direction " << d;
       }
       EXPECT_EQ(ids[e], 7u | (std::uint64_t{1000 + t} << 32));
       ++e;

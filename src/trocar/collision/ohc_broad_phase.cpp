@@ -396,7 +396,7 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
   }
   if (opened_stride_ < bound + 8) {
     opened_stride_ = bound + 8;
-    opened_boxes_.assign(6 * opened_stride_, 0.0);
+    opened_boxes_.assign((6 + 2 * ohc_detail::kDopAxes) * opened_stride_, 0.0);
     opened_ids_.resize(opened_stride_);
   }
   Real* const box_lo[3] = {opened_boxes_.data(), opened_boxes_.data() + opened_stride_,
@@ -406,9 +406,15 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
   // Eight triangles at a time where the CPU has AVX-512 (the same triangles and boxes).
   const bool avx512 = settings_.simd && cpu_has_avx512();
   static_assert(sizeof(OpenedId) == 8 && offsetof(OpenedId, object) == 0, "the AVX-512 kernel writes ids as 64 bits");
-  const ohc_detail::OpenedArrays opened_arrays = {{box_lo[0], box_lo[1], box_lo[2]},
-                                                  {box_hi[0], box_hi[1], box_hi[2]},
-                                                  reinterpret_cast<std::uint64_t*>(opened_ids_.data())};
+  ohc_detail::OpenedArrays opened_arrays = {{box_lo[0], box_lo[1], box_lo[2]},
+                                            {box_hi[0], box_hi[1], box_hi[2]},
+                                            {},
+                                            {},
+                                            reinterpret_cast<std::uint64_t*>(opened_ids_.data())};
+  for (int k = 0; k < ohc_detail::kDopAxes; ++k) {
+    opened_arrays.dop_lo[k] = opened_boxes_.data() + static_cast<std::size_t>(6 + k) * opened_stride_;
+    opened_arrays.dop_hi[k] = opened_boxes_.data() + static_cast<std::size_t>(6 + ohc_detail::kDopAxes + k) * opened_stride_;
+  }
   for (std::uint32_t i = 0; i < n; ++i) {
     const Aabb& region = regions_[i];
     if (region.is_empty()) continue;
@@ -468,6 +474,13 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
         for (int axis = 0; axis < 3; ++axis) {
           box_lo[axis][opened] = box.min[axis];
           box_hi[axis][opened] = box.max[axis];
+        }
+        Real d_lo[ohc_detail::kDopAxes];
+        Real d_hi[ohc_detail::kDopAxes];
+        ohc_detail::dop_extents(a, b, cc, d_lo, d_hi);
+        for (int d = 0; d < ohc_detail::kDopAxes; ++d) {
+          opened_arrays.dop_lo[d][opened] = d_lo[d];
+          opened_arrays.dop_hi[d][opened] = d_hi[d];
         }
         opened_ids_[opened++] = {i, t};
       }

@@ -210,7 +210,8 @@ class OhcBroadPhase final : public BroadPhase {
     std::uint32_t triangle;
   };
   // The triangles that passed the cascade this frame, in cluster order: their clipped boxes as
-  // six arrays of opened_stride_ (min x, y, z, max x, y, z) and their ids.
+  // six arrays of opened_stride_ (min x, y, z, max x, y, z), their extents along six more
+  // directions (ohc_kernels.h: six arrays of lower, six of upper ends) and their ids.
   std::vector<Real> opened_boxes_;
   std::vector<OpenedId> opened_ids_;
   std::size_t opened_stride_ = 0;

@@ -4,6 +4,7 @@
 #include <cstdint>
 
 #include "trocar/collision/ohc_broad_phase.h"
+#include "trocar/collision/ohc_kernels.h"
 #include "trocar/core/cpu_features.h"
 
 #if defined(__x86_64__) && defined(__GNUC__)
@@ -96,7 +97,8 @@ __attribute__((target("avx512f,avx512vl,avx512dq"))) std::uint32_t box_hits_avx5
 // 8 past the last. Returns how many were written. The same pairs, in the same order, as the
 // scalar loop of emit_cluster_pairs.
 __attribute__((target("avx512f,avx512vl,avx512dq"))) std::uint32_t cluster_pair_avx512(
-    const Real* const (&lo)[3], const Real* const (&hi)[3], const std::uint64_t* ids, std::uint32_t outer_begin,
+    const Real* const (&lo)[3], const Real* const (&hi)[3], const Real* const (&dop_lo)[ohc_detail::kDopAxes],
+    const Real* const (&dop_hi)[ohc_detail::kDopAxes], const std::uint64_t* ids, std::uint32_t outer_begin,
     std::uint32_t outer_end, std::uint32_t inner_begin, std::uint32_t inner_end, const Real (&b_lo)[3],
     const Real (&b_hi)[3], bool outer_first, CandidatePair* out) {
   static_assert(sizeof(CandidatePair) == 16, "four 32-bit ids");
@@ -127,6 +129,12 @@ __attribute__((target("avx512f,avx512vl,avx512dq"))) std::uint32_t cluster_pair_
       for (int k = 0; k < 3; ++k) {  // _CMP_NGT_UQ keeps a NaN, as the scalar test does
         m = _mm512_mask_cmp_pd_mask(m, alo[k], _mm512_maskz_loadu_pd(block, hi[k] + j), _CMP_NGT_UQ);
         m = _mm512_mask_cmp_pd_mask(m, _mm512_maskz_loadu_pd(block, lo[k] + j), ahi[k], _CMP_NGT_UQ);
+      }
+      if (m == 0) continue;
+      // The box hits' extents along the six more directions (ohc_kernels.h).
+      for (int k = 0; k < ohc_detail::kDopAxes; ++k) {
+        m = _mm512_mask_cmp_pd_mask(m, _mm512_set1_pd(dop_lo[k][a]), _mm512_maskz_loadu_pd(m, dop_hi[k] + j), _CMP_NGT_UQ);
+        m = _mm512_mask_cmp_pd_mask(m, _mm512_maskz_loadu_pd(m, dop_lo[k] + j), _mm512_set1_pd(dop_hi[k][a]), _CMP_NGT_UQ);
       }
       if (m == 0) continue;
       const __m512i hit_ids = _mm512_maskz_compress_epi64(m, _mm512_maskz_loadu_epi64(block, ids + j));
@@ -239,6 +247,12 @@ void OhcBroadPhase::emit_cluster_pairs(std::span<const CollisionObject> objects,
   const Real* const lo[3] = {opened_boxes_.data(), opened_boxes_.data() + opened_stride_,
                              opened_boxes_.data() + 2 * opened_stride_};
   const Real* const hi[3] = {lo[2] + opened_stride_, lo[2] + 2 * opened_stride_, lo[2] + 3 * opened_stride_};
+  const Real* dop_lo[ohc_detail::kDopAxes];
+  const Real* dop_hi[ohc_detail::kDopAxes];
+  for (int k = 0; k < ohc_detail::kDopAxes; ++k) {
+    dop_lo[k] = opened_boxes_.data() + static_cast<std::size_t>(6 + k) * opened_stride_;
+    dop_hi[k] = opened_boxes_.data() + static_cast<std::size_t>(6 + ohc_detail::kDopAxes + k) * opened_stride_;
+  }
   const BoxKernel kernel = box_kernel(settings_.simd);
   std::uint32_t* hits = cell_hits_.data();
 #if defined(__x86_64__) && defined(__GNUC__)
@@ -271,7 +285,8 @@ void OhcBroadPhase::emit_cluster_pairs(std::span<const CollisionObject> objects,
     const Real b_hi[3] = {cp.both.max.x(), cp.both.max.y(), cp.both.max.z()};
 #if defined(__x86_64__) && defined(__GNUC__)
     if (kernel == BoxKernel::kAvx512) {
-      written += cluster_pair_avx512(lo, hi, reinterpret_cast<const std::uint64_t*>(opened_ids_.data()), outer_begin,
+      written += cluster_pair_avx512(lo, hi, dop_lo, dop_hi, reinterpret_cast<const std::uint64_t*>(opened_ids_.data()),
+                                     outer_begin,
                                      outer_end, inner_begin, inner_end, b_lo, b_hi, outer_first,
                                      pair_scratch_.data() + written);
       continue;
@@ -288,7 +303,11 @@ void OhcBroadPhase::emit_cluster_pairs(std::span<const CollisionObject> objects,
       const std::uint32_t n_hits = box_hits(kernel, lo, hi, inner_begin, inner_end, a_lo, a_hi, hits);
       const OpenedId pa = opened_ids_[a];
       for (std::uint32_t k = 0; k < n_hits; ++k) {
-        const OpenedId pb = opened_ids_[hits[k]];
+        const std::uint32_t b = hits[k];
+        bool apart = false;  // along one of the six more directions (as the AVX-512 kernel)
+        for (int d = 0; d < ohc_detail::kDopAxes; ++d) apart |= dop_lo[d][a] > dop_hi[d][b] || dop_lo[d][b] > dop_hi[d][a];
+        if (apart) continue;
+        const OpenedId pb = opened_ids_[b];
         const OpenedId first = outer_first ? pa : pb;
         const OpenedId second = outer_first ? pb : pa;
         out.push_back({first.object, second.object, first.triangle, second.triangle});

@@ -94,10 +94,9 @@ __attribute__((target("avx512f,avx512vl,avx512dq,avx2"))) std::uint32_t open_clu
     // Inflated by kBoxMargin of the largest side, then clipped; empty ones dropped.
     const __m512d side = _mm512_max_pd(_mm512_max_pd(_mm512_sub_pd(hi[0], lo[0]), _mm512_sub_pd(hi[1], lo[1])),
                                        _mm512_sub_pd(hi[2], lo[2]));
-    __m512d margin = _mm512_mul_pd(_mm512_set1_pd(kBoxMargin), side);
-    // The product rounded on its own, as in the scalar code: with AVX-512 (and so FMA) enabled,
-    // GCC would fuse it into the sums below (-ffp-contract=fast), which rounds differently.
-    asm("" : "+v"(margin));
+    // (This file is compiled with -ffp-contract=off: no product is fused into the sums below,
+    // which would round differently from the scalar code.)
+    const __m512d margin = _mm512_mul_pd(_mm512_set1_pd(kBoxMargin), side);
     __m512d box_lo[3];
     __m512d box_hi[3];
     for (int k = 0; k < 3; ++k) {
@@ -109,6 +108,24 @@ __attribute__((target("avx512f,avx512vl,avx512dq,avx2"))) std::uint32_t open_clu
     for (int k = 0; k < 3; ++k) {
       _mm512_storeu_pd(out.lo[k] + at, _mm512_maskz_compress_pd(keep, box_lo[k]));
       _mm512_storeu_pd(out.hi[k] + at, _mm512_maskz_compress_pd(keep, box_hi[k]));
+    }
+    // The extents along x ± y, x ± z, y ± z, widened as dop_extents() does.
+    const __m512d scale = _mm512_max_pd(
+        _mm512_max_pd(_mm512_max_pd(_mm512_abs_pd(lo[0]), _mm512_abs_pd(hi[0])),
+                      _mm512_max_pd(_mm512_abs_pd(lo[1]), _mm512_abs_pd(hi[1]))),
+        _mm512_max_pd(_mm512_abs_pd(lo[2]), _mm512_abs_pd(hi[2])));
+    const __m512d w = _mm512_add_pd(_mm512_mul_pd(_mm512_set1_pd(2.0), margin), _mm512_mul_pd(_mm512_set1_pd(1e-15), scale));
+    for (int k = 0; k < kDopAxes; ++k) {
+      __m512d along[3];
+      for (int v = 0; v < 3; ++v) {
+        const __m512d first_axis = k < 4 ? corner[v].x : corner[v].y;
+        const __m512d second_axis = k == 0 || k == 1 ? corner[v].y : corner[v].z;
+        along[v] = k % 2 == 0 ? _mm512_add_pd(first_axis, second_axis) : _mm512_sub_pd(first_axis, second_axis);
+      }
+      const __m512d d_lo = _mm512_sub_pd(_mm512_min_pd(along[2], _mm512_min_pd(along[1], along[0])), w);
+      const __m512d d_hi = _mm512_add_pd(_mm512_max_pd(along[2], _mm512_max_pd(along[1], along[0])), w);
+      _mm512_storeu_pd(out.dop_lo[k] + at, _mm512_maskz_compress_pd(keep, d_lo));
+      _mm512_storeu_pd(out.dop_hi[k] + at, _mm512_maskz_compress_pd(keep, d_hi));
     }
     const __m512i triangles = _mm512_cvtepu32_epi64(_mm256_maskz_loadu_epi32(valid, order + first));
     const __m512i ids = _mm512_or_si512(object_id, _mm512_slli_epi64(triangles, 32));
