@@ -35,9 +35,9 @@ void refit_lists(const Real* positions, const std::uint32_t* ids, const std::uin
 /// x − y, x + z, x − z, y + z, y − z: with the box, an 18-DOP), which the cluster-pair path tests
 /// after the boxes: a tilted triangle's box is much larger than the triangle, and these reject
 /// about half of the box hits (bench_collision scene a) before the narrow phase. Each extent is
-/// widened by w = 2·(the box margin) + 1e-15·(the triangle's largest coordinate): the first
+/// widened by w = 2·(the box margin) + 4e-15·(the triangle's largest coordinate): the first
 /// covers the narrow phase's tolerance as the box margin does (a direction has length √2 < 2),
-/// the second the rounding of the sums.
+/// the second the rounding of the sums and of the widening (each ≤ 2.2e-16·scale per end).
 inline constexpr int kDopAxes = 6;
 
 /// The six extents of triangle abc, widened (the definition both opening paths follow).
@@ -60,7 +60,7 @@ inline void dop_extents(const Vec3& a, const Vec3& b, const Vec3& c, Real (&lo)[
     side = std::max(side, h - l);
     scale = std::max(scale, std::max(std::abs(l), std::abs(h)));
   }
-  const Real w = 2.0 * (kBoxMargin * side) + 1e-15 * scale;
+  const Real w = 2.0 * (kBoxMargin * side) + 4e-15 * scale;
   for (int k = 0; k < kDopAxes; ++k) {
     lo[k] = std::min(std::min(along(a, k), along(b, k)), along(c, k)) - w;
     hi[k] = std::max(std::max(along(a, k), along(b, k)), along(c, k)) + w;
