@@ -6,6 +6,10 @@
 #include <algorithm>
 #include <cmath>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "trocar/collision/broad_phase.h"
 #include "trocar/core/aabb.h"
 #include "trocar/core/types.h"
@@ -42,16 +46,6 @@ inline constexpr int kDopAxes = 6;
 
 /// The six extents of triangle abc, widened (the definition both opening paths follow).
 inline void dop_extents(const Vec3& a, const Vec3& b, const Vec3& c, Real (&lo)[kDopAxes], Real (&hi)[kDopAxes]) {
-  const auto along = [](const Vec3& v, int k) {
-    switch (k) {
-      case 0: return v.x() + v.y();
-      case 1: return v.x() - v.y();
-      case 2: return v.x() + v.z();
-      case 3: return v.x() - v.z();
-      case 4: return v.y() + v.z();
-      default: return v.y() - v.z();
-    }
-  };
   Real side = 0;
   Real scale = 0;
   for (int k = 0; k < 3; ++k) {
@@ -61,10 +55,29 @@ inline void dop_extents(const Vec3& a, const Vec3& b, const Vec3& c, Real (&lo)[
     scale = std::max(scale, std::max(std::abs(l), std::abs(h)));
   }
   const Real w = 2.0 * (kBoxMargin * side) + 4e-15 * scale;
-  for (int k = 0; k < kDopAxes; ++k) {
-    lo[k] = std::min(std::min(along(a, k), along(b, k)), along(c, k)) - w;
-    hi[k] = std::max(std::max(along(a, k), along(b, k)), along(c, k)) + w;
+#if defined(__SSE2__)
+  // Two directions per register: (u, u) + (v, −v) is (u + v, u − v) exactly. std::min(p, q) is
+  // _mm_min_pd(q, p), so these are the scalar expressions below.
+  const auto along = [](const Vec3& x, int first, int second) {
+    return _mm_add_pd(_mm_set1_pd(x[first]), _mm_set_pd(-x[second], x[second]));
+  };
+  const int axes[3][2] = {{0, 1}, {0, 2}, {1, 2}};
+  for (int d = 0; d < 3; ++d) {
+    const __m128d pa = along(a, axes[d][0], axes[d][1]);
+    const __m128d pb = along(b, axes[d][0], axes[d][1]);
+    const __m128d pc = along(c, axes[d][0], axes[d][1]);
+    _mm_storeu_pd(lo + 2 * d, _mm_sub_pd(_mm_min_pd(pc, _mm_min_pd(pb, pa)), _mm_set1_pd(w)));
+    _mm_storeu_pd(hi + 2 * d, _mm_add_pd(_mm_max_pd(pc, _mm_max_pd(pb, pa)), _mm_set1_pd(w)));
   }
+#else
+  const Real pa[kDopAxes] = {a.x() + a.y(), a.x() - a.y(), a.x() + a.z(), a.x() - a.z(), a.y() + a.z(), a.y() - a.z()};
+  const Real pb[kDopAxes] = {b.x() + b.y(), b.x() - b.y(), b.x() + b.z(), b.x() - b.z(), b.y() + b.z(), b.y() - b.z()};
+  const Real pc[kDopAxes] = {c.x() + c.y(), c.x() - c.y(), c.x() + c.z(), c.x() - c.z(), c.y() + c.z(), c.y() - c.z()};
+  for (int k = 0; k < kDopAxes; ++k) {
+    lo[k] = std::min(std::min(pa[k], pb[k]), pc[k]) - w;
+    hi[k] = std::max(std::max(pa[k], pb[k]), pc[k]) + w;
+  }
+#endif
 }
 
 /// Where a cluster's opened triangles go: their clipped boxes (one array per axis and side), their
