@@ -40,10 +40,11 @@ struct OhcSettings {
   /// Cluster-pair path (only with both cascade levels): when the cluster sweep completed and
   /// Σ over the overlapping cluster pairs of (opened triangles of one) × (of the other) is at most
   /// this × the opened triangles + 1,024, each cluster pair's triangle boxes are tested against
-  /// each other directly (four at a time) and the cell hash is skipped: a triangle pair lies in
-  /// exactly one cluster pair, so nothing needs deduplicating. The candidates are the same as
-  /// the hash's. 0: always hash (for tests and measurements); infinity: always this path when the
-  /// sweep completed.
+  /// each other directly (eight or four at a time), then the hits' extents along six more
+  /// directions, and the cell hash is skipped: a triangle pair lies in exactly one cluster pair,
+  /// so nothing needs deduplicating. The candidates are a subset of the hash's (the extents test
+  /// drops about half of the box hits). 0: always hash (for tests and measurements); infinity:
+  /// always this path when the sweep completed.
   Real max_pair_tests_per_primitive = 128;
   /// Use the AVX2 kernels (cluster refit, box tests of a cell's pairs) where the CPU has them
   /// and TROCAR_SIMD is not "off". false: the portable code (for tests and comparisons); the
@@ -74,14 +75,17 @@ struct OhcStats {
 /// The cascaded spatial-hash broad phase.
 ///
 /// Per frame, O(vertices + triangles of the overlapping objects + hashed entries):
-///  1. object boxes (from the cluster boxes of step 2); tested pairs (roles, not the same object) whose boxes overlap;
+///  1. object boxes (from the group boxes of step 2); tested pairs (roles, not the same object) whose boxes overlap;
 ///  2. per object, the region of interest = bounding box of its overlaps with its partners;
 ///     the triangles are grouped once (when an object is first seen) into clusters of
 ///     kClusterTriangles triangles, consecutive in Morton order of their centroids, each with
-///     the list of its vertices; every frame one pass over those lists refits the cluster boxes
-///     (their union is the object box of step 1, so positions are read about once), only
-///     clusters touching the region have their triangles' boxes built, and triangles touching
-///     the region are hashed with their boxes clipped to it;
+///     the list of its vertices, and every kGroupClusters clusters into a group with the merged
+///     list; every frame one pass over the group lists gives the group boxes (their union is
+///     the object box of step 1, so positions are read about once), cluster boxes are refitted
+///     only in the groups near an overlap, only clusters touching the region (and, by default,
+///     a partner's cluster) have their triangles' boxes built, and triangles touching the
+///     region are kept with their boxes clipped to it. Then, by default, the cluster-pair path
+///     (see OhcSettings::max_pair_tests_per_primitive) instead of steps 3–5;
 ///  3. cells of edge h on a lattice anchored at the world origin; each hashed box is entered in
 ///     every cell it touches; cell (x, y, z) goes to slot
 ///     h(x,y,z) = (x·73856093 ⊕ y·19349663 ⊕ z·83492791) mod n (Teschner et al. 2003,
