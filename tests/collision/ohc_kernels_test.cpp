@@ -44,7 +44,8 @@ TEST(OhcKernels, OpenClusterMatchesScalarBitForBit) {
     const Real g_lo[3] = {grown.min.x(), grown.min.y(), grown.min.z()};
     const Real g_hi[3] = {grown.max.x(), grown.max.y(), grown.max.z()};
     Real* base = arrays.data();
-    ohc_detail::OpenedArrays out = {{base, base + 48, base + 96}, {base + 144, base + 192, base + 240}, {}, {}, ids.data()};
+    ohc_detail::OpenedArrays out = {
+        {base, base + 48, base + 96}, {base + 144, base + 192, base + 240}, {}, {}, ids.data()};
     for (int d = 0; d < ohc_detail::kDopAxes; ++d) {
       out.dop_lo[d] = base + 48 * (6 + d);
       out.dop_hi[d] = base + 48 * (12 + d);

@@ -3,7 +3,8 @@
 // the portable path (narrow_phase.cpp) run on all four lanes — A's plane against B's corners, B's
 // plane against A's corners (each with the conservative 1e-9·L margin), then the interval test
 // on the line nA × nB (Möller, "A Fast Triangle-Triangle Intersection Test", JGT 1997, made
-// conservative as there). The candidates no test rejects go on to the exact test (narrow_phase.cpp batches them by four).
+// conservative as there). The candidates no test rejects go on to the exact test (narrow_phase.cpp
+// batches them).
 // FMA and one reciprocal per edge round differently from the portable path by a few ulp, which
 // the margins (orders of magnitude wider) absorb: both paths reject only pairs the exact test
 // rejects, so the contacts are the same.

@@ -115,7 +115,8 @@ struct Interval8 {
     __m512d l0 = _mm512_mask_blend_pd(steep, zero, _mm512_max_pd(zero, _mm512_min_pd(a, b)));
     __m512d l1 = _mm512_mask_blend_pd(steep, one, _mm512_min_pd(one, _mm512_max_pd(a, b)));
     const __mmask8 crossed = gt(l0, l1);
-    const __m512d mid = _mm512_min_pd(one, _mm512_max_pd(zero, _mm512_mul_pd(_mm512_set1_pd(0.5), _mm512_add_pd(l0, l1))));
+    const __m512d half_sum = _mm512_mul_pd(_mm512_set1_pd(0.5), _mm512_add_pd(l0, l1));
+    const __m512d mid = _mm512_min_pd(one, _mm512_max_pd(zero, half_sum));
     l0 = _mm512_mask_blend_pd(crossed, l0, mid);
     l1 = _mm512_mask_blend_pd(crossed, l1, mid);
     const __m512d span = _mm512_sub_pd(pj, pi);
@@ -178,9 +179,8 @@ __attribute__((target("avx512f,avx512vl,avx512dq,avx2,fma"))) int reject8_avx512
   // The interval test on the line nA × nB (separated_on_line in narrow_phase.cpp).
   const W3 dir = cross(plane_a.n, plane_b.n);
   const __m512d dir2 = dot(dir, dir);
-  const __mmask8 line_ok = plane_a.well & plane_b.well &
-                           _mm512_cmp_pd_mask(dir2, _mm512_mul_pd(_mm512_set1_pd(1e-4), _mm512_mul_pd(plane_a.n2, plane_b.n2)),
-                                              _CMP_GE_OQ);
+  const __m512d min_dir2 = _mm512_mul_pd(_mm512_set1_pd(1e-4), _mm512_mul_pd(plane_a.n2, plane_b.n2));
+  const __mmask8 line_ok = plane_a.well & plane_b.well & _mm512_cmp_pd_mask(dir2, min_dir2, _CMP_GE_OQ);
   const __m512d eps_size = _mm512_mul_pd(_mm512_set1_pd(1e-9), size);
   Interval8 ia;
   ia.clear();

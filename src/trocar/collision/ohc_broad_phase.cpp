@@ -248,8 +248,8 @@ void OhcBroadPhase::cluster_cascade(std::span<const CollisionObject> objects, st
   // Few clusters on the two sides (the usual case: a tool against the patch it presses on):
   // every pair of the two sides is tested, which costs less than sorting for the sweep. The same
   // pairs either way; only their order differs.
-  const auto side0 = static_cast<std::size_t>(
-      std::find_if(sweep_.begin(), sweep_.end(), [](const SweepItem& item) { return item.side == 1; }) - sweep_.begin());
+  const auto second = std::find_if(sweep_.begin(), sweep_.end(), [](const SweepItem& item) { return item.side == 1; });
+  const auto side0 = static_cast<std::size_t>(second - sweep_.begin());
   if (side0 * (sweep_.size() - side0) <= kAllPairsClusters) {
     for (std::size_t a = 0; a < side0; ++a) {
       const SweepItem& p = sweep_[a];
@@ -291,7 +291,8 @@ void OhcBroadPhase::cluster_cascade(std::span<const CollisionObject> objects, st
       const Aabb both = p.box.intersection(q.box);
       expand_region(p.side == 0 ? i : j, p.cluster, both);
       expand_region(q.side == 0 ? i : j, q.cluster, both);
-      cluster_pair_list_.push_back({both, i, p.side == 0 ? p.cluster : q.cluster, j, p.side == 0 ? q.cluster : p.cluster});
+      const bool p_first = p.side == 0;
+      cluster_pair_list_.push_back({both, i, p_first ? p.cluster : q.cluster, j, p_first ? q.cluster : p.cluster});
       ++stats_.cluster_pairs;
     }
   }
@@ -392,7 +393,8 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
   //    time), sized for every triangle of the clusters that may open.
   std::size_t bound = 0;
   for (std::uint32_t i = 0; i < n; ++i) {
-    if (!regions_[i].is_empty()) bound += by_cluster ? kClusterTriangles * clusters_[i].touched.size() : objects[i].triangles.size();
+    if (regions_[i].is_empty()) continue;
+    bound += by_cluster ? kClusterTriangles * clusters_[i].touched.size() : objects[i].triangles.size();
   }
   if (opened_stride_ < bound + 8) {
     opened_stride_ = bound + 8;
@@ -412,8 +414,9 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
                                             {},
                                             reinterpret_cast<std::uint64_t*>(opened_ids_.data())};
   for (int k = 0; k < ohc_detail::kDopAxes; ++k) {
-    opened_arrays.dop_lo[k] = opened_boxes_.data() + static_cast<std::size_t>(6 + k) * opened_stride_;
-    opened_arrays.dop_hi[k] = opened_boxes_.data() + static_cast<std::size_t>(6 + ohc_detail::kDopAxes + k) * opened_stride_;
+    const auto lower = static_cast<std::size_t>(6 + k);
+    opened_arrays.dop_lo[k] = opened_boxes_.data() + lower * opened_stride_;
+    opened_arrays.dop_hi[k] = opened_boxes_.data() + (lower + ohc_detail::kDopAxes) * opened_stride_;
   }
   for (std::uint32_t i = 0; i < n; ++i) {
     const Aabb& region = regions_[i];

@@ -133,8 +133,10 @@ __attribute__((target("avx512f,avx512vl,avx512dq"))) std::uint32_t cluster_pair_
       if (m == 0) continue;
       // The box hits' extents along the six more directions (ohc_kernels.h).
       for (int k = 0; k < ohc_detail::kDopAxes; ++k) {
-        m = _mm512_mask_cmp_pd_mask(m, _mm512_set1_pd(dop_lo[k][a]), _mm512_maskz_loadu_pd(m, dop_hi[k] + j), _CMP_NGT_UQ);
-        m = _mm512_mask_cmp_pd_mask(m, _mm512_maskz_loadu_pd(m, dop_lo[k] + j), _mm512_set1_pd(dop_hi[k][a]), _CMP_NGT_UQ);
+        const __m512d their_lo = _mm512_maskz_loadu_pd(m, dop_lo[k] + j);
+        const __m512d their_hi = _mm512_maskz_loadu_pd(m, dop_hi[k] + j);
+        m = _mm512_mask_cmp_pd_mask(m, _mm512_set1_pd(dop_lo[k][a]), their_hi, _CMP_NGT_UQ);
+        m = _mm512_mask_cmp_pd_mask(m, their_lo, _mm512_set1_pd(dop_hi[k][a]), _CMP_NGT_UQ);
       }
       if (m == 0) continue;
       const __m512i hit_ids = _mm512_maskz_compress_epi64(m, _mm512_maskz_loadu_epi64(block, ids + j));
@@ -305,7 +307,9 @@ void OhcBroadPhase::emit_cluster_pairs(std::span<const CollisionObject> objects,
       for (std::uint32_t k = 0; k < n_hits; ++k) {
         const std::uint32_t b = hits[k];
         bool apart = false;  // along one of the six more directions (as the AVX-512 kernel)
-        for (int d = 0; d < ohc_detail::kDopAxes; ++d) apart |= dop_lo[d][a] > dop_hi[d][b] || dop_lo[d][b] > dop_hi[d][a];
+        for (int d = 0; d < ohc_detail::kDopAxes; ++d) {
+          apart |= dop_lo[d][a] > dop_hi[d][b] || dop_lo[d][b] > dop_hi[d][a];
+        }
         if (apart) continue;
         const OpenedId pb = opened_ids_[b];
         const OpenedId first = outer_first ? pa : pb;

@@ -114,7 +114,8 @@ __attribute__((target("avx512f,avx512vl,avx512dq,avx2"))) std::uint32_t open_clu
         _mm512_max_pd(_mm512_max_pd(_mm512_abs_pd(lo[0]), _mm512_abs_pd(hi[0])),
                       _mm512_max_pd(_mm512_abs_pd(lo[1]), _mm512_abs_pd(hi[1]))),
         _mm512_max_pd(_mm512_abs_pd(lo[2]), _mm512_abs_pd(hi[2])));
-    const __m512d w = _mm512_add_pd(_mm512_mul_pd(_mm512_set1_pd(2.0), margin), _mm512_mul_pd(_mm512_set1_pd(4e-15), scale));
+    const __m512d w =
+        _mm512_add_pd(_mm512_mul_pd(_mm512_set1_pd(2.0), margin), _mm512_mul_pd(_mm512_set1_pd(4e-15), scale));
     for (int k = 0; k < kDopAxes; ++k) {
       __m512d along[3];
       for (int v = 0; v < 3; ++v) {
