@@ -43,6 +43,7 @@ TEST(BroadPhaseEquivalence, SoupsWithSetCellSizes) {
   for (const double h : {0.003, 0.05, 0.2, 1.0, 1000.0}) {
     OhcSettings settings;
     settings.cell_size = h;
+    settings.max_pair_tests_per_primitive = 0;  // the cell hash, whose cell size this is about
     CollisionDetector ohc(settings);
     const auto found = ohc.detect(objects);
     test::expect_same_contacts(reference, {found.begin(), found.end()}, "cell " + std::to_string(h));
@@ -178,10 +179,12 @@ TEST(BroadPhaseAdversarial, TinyTriangleInHugeCell) {
   EXPECT_EQ(contacts.back().triangle_a, 200u);
   OhcSettings settings;
   settings.cell_size = 10.0;
+  settings.max_pair_tests_per_primitive = 0;  // the cell hash
   CollisionDetector ohc(settings);
   EXPECT_EQ(ohc.detect(objects).size(), contacts.size());
   // The budget kept the entries linear in the primitives.
-  CollisionDetector auto_ohc;
+  settings.cell_size = 0;
+  CollisionDetector auto_ohc(settings);
   auto_ohc.detect(objects);
   const OhcStats& stats = *auto_ohc.ohc_stats();
   EXPECT_LE(static_cast<double>(stats.entries), 64.0 * stats.primitives_hashed + 64.0);
@@ -198,10 +201,15 @@ TEST(BroadPhaseAdversarial, HugeTrianglesAcrossTheClampedGrid) {
   ASSERT_EQ(reference.size(), 1u);
   OhcSettings settings;
   settings.cell_size = 1.0;
+  settings.max_pair_tests_per_primitive = 0;  // the cell hash, whose cells this is about
   CollisionDetector ohc(settings);
   const auto found = ohc.detect(objects);
   test::expect_same_contacts(reference, {found.begin(), found.end()}, "huge");
   EXPECT_GT(ohc.ohc_stats()->cell_size, 1e6);
+  CollisionDetector by_cluster_pairs;  // the default: one cluster pair, no cells
+  const auto direct = by_cluster_pairs.detect(objects);
+  test::expect_same_contacts(reference, {direct.begin(), direct.end()}, "huge (cluster pairs)");
+  EXPECT_TRUE(by_cluster_pairs.ohc_stats()->cluster_pair_path);
 }
 
 TEST(BroadPhaseAdversarial, ObjectsFarApart) {
@@ -240,6 +248,20 @@ TEST(BroadPhaseAdversarial, RigidRigidNotTestedSameObjectNeverPaired) {
   scene.add(make_icosphere(1.0, 1), ObjectRole::kRigid);  // identical: would intersect everywhere
   const auto objects = scene.objects();
   EXPECT_TRUE(expect_all_agree(objects, "rigid-rigid").empty());
+}
+
+TEST(BroadPhaseAdversarial, ManyClusterPairsTakeTheSweep) {
+  // Two copies of a 5,120-triangle sphere: 160 clusters on each side, 160 × 160 pairs of them
+  // to consider (over the 1,024 the cascade tests one by one), so it sorts and sweeps them.
+  Scene scene;
+  scene.add(make_icosphere(1.0, 4), ObjectRole::kInstrument);
+  scene.add(make_icosphere(1.0, 4), ObjectRole::kTissue);
+  const auto objects = scene.objects();
+  const auto contacts = expect_all_agree(objects, "identical L4", false);
+  EXPECT_GE(contacts.size(), 5120u * 4u);
+  CollisionDetector ohc;
+  ohc.detect(objects);
+  EXPECT_GT(ohc.ohc_stats()->cluster_pairs, 500u);
 }
 
 TEST(BroadPhaseAdversarial, IdenticalOverlappingMeshes) {

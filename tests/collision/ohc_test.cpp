@@ -125,8 +125,10 @@ TEST(OhcCells, ClusterCascadeHandBuilt) {
   // overlap is x [0.2, 0.8], y 0.5, z 0.5, which the instrument's triangle in (5,0,0) misses.
   // 33 triangles hashed, all into (0,0,0); the same 32 pairs.
   settings.cluster_cascade = true;
+  settings.max_pair_tests_per_primitive = 0;  // the cell hash
   ohc.set_settings(settings);
   ohc.find_pairs(objects, pairs);
+  EXPECT_FALSE(ohc.stats().cluster_pair_path);
   EXPECT_EQ(ohc.stats().cluster_pairs, 1u);
   EXPECT_EQ(ohc.stats().clusters_opened, 2u);
   EXPECT_EQ(ohc.stats().primitives_hashed, 33u);
@@ -135,6 +137,19 @@ TEST(OhcCells, ClusterCascadeHandBuilt) {
   EXPECT_EQ(ohc.stats().potential_cells, 1u);
   EXPECT_EQ(ohc.stats().solo_cells, 0u);
   EXPECT_EQ(ohc.stats().empty_cells, 0u);
+  EXPECT_EQ(ohc.stats().candidate_pairs, 32u);
+  EXPECT_EQ(keys(pairs), object_level);
+
+  // The cluster-pair path (the default): the one cluster pair's 1 × 32 box tests, no cells; the
+  // same 33 triangles opened and the same 32 pairs.
+  settings.max_pair_tests_per_primitive = OhcSettings{}.max_pair_tests_per_primitive;
+  ohc.set_settings(settings);
+  ohc.find_pairs(objects, pairs);
+  EXPECT_TRUE(ohc.stats().cluster_pair_path);
+  EXPECT_EQ(ohc.stats().cluster_pairs, 1u);
+  EXPECT_EQ(ohc.stats().primitives_hashed, 33u);
+  EXPECT_EQ(ohc.stats().entries, 0u);
+  EXPECT_EQ(ohc.stats().cells_touched, 0u);
   EXPECT_EQ(ohc.stats().candidate_pairs, 32u);
   EXPECT_EQ(keys(pairs), object_level);
 }
@@ -223,7 +238,9 @@ TEST(OhcCells, DeterministicAcrossRunsAndDetectors) {
 
 TEST(OhcCells, TableSizedByTheFrame) {
   test::CuttingScene cut(make_icosphere(0.05, 3), make_capsule(0.004, 0.04, 12, 4), 0.006, 0.01);
-  OhcBroadPhase ohc;
+  OhcSettings settings;
+  settings.max_pair_tests_per_primitive = 0;  // the cell hash, whose table this is about
+  OhcBroadPhase ohc(settings);
   std::vector<CandidatePair> pairs;
   for (int f = 0; f < 5; ++f) {
     cut.set_frame(f);

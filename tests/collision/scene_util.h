@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <tuple>
 #include <optional>
 #include <random>
@@ -112,29 +113,42 @@ inline std::vector<Contact> expect_all_agree(std::span<const CollisionObject> ob
     expect_same_contacts(reference, bvh, what + " (bvh vs brute)");
   }
   // 2: both cascade levels (the default), 1: object level only, 0: no cascade; -1: the default
-  // with the portable code instead of the AVX2 kernels (the same candidates, as a set).
+  // with the portable code instead of the AVX2 kernels; 3: both levels, the cell hash always,
+  // 4: the cluster-pair path always (when the sweep completes). -1 must give the default's
+  // candidates, as a set; 4's are a subset of 3's (the cluster-pair path also tests the
+  // triangles' extents along six more directions).
   std::vector<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t, std::uint32_t>> simd_candidates;
-  for (const int levels : {2, -1, 1, 0}) {
+  std::vector<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t, std::uint32_t>> hash_candidates;
+  for (const int levels : {2, -1, 3, 4, 1, 0}) {
     OhcSettings settings;
-    settings.cascade = levels >= 1 || levels == -1;
-    settings.cluster_cascade = levels >= 2 || levels == -1;
+    settings.cascade = levels != 0;
+    settings.cluster_cascade = levels != 0 && levels != 1;
     settings.simd = levels != -1;
+    if (levels == 3) settings.max_pair_tests_per_primitive = 0;
+    if (levels == 4) settings.max_pair_tests_per_primitive = std::numeric_limits<Real>::infinity();
     CollisionDetector ohc(settings);
     const auto found = ohc.detect(objects);
     expect_same_contacts(reference, {found.begin(), found.end()},
                          what + (levels == 2    ? " (ohc)"
                                  : levels == -1 ? " (ohc, portable)"
+                                 : levels == 3  ? " (ohc, cell hash)"
+                                 : levels == 4  ? " (ohc, cluster pairs)"
                                  : levels == 1  ? " (ohc, object cascade only)"
                                                 : " (ohc, no cascade)"));
     expect_unique_candidates(ohc.candidates(), objects, what + " (ohc candidates)");
-    if (levels == 2 || levels == -1) {
+    if (levels >= 2 || levels == -1) {
       std::vector<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t, std::uint32_t>> keys;
       for (const CandidatePair& p : ohc.candidates()) keys.emplace_back(p.object_a, p.object_b, p.triangle_a, p.triangle_b);
       std::sort(keys.begin(), keys.end());
       if (levels == 2) {
         simd_candidates = std::move(keys);
-      } else {
+      } else if (levels == -1) {
         EXPECT_EQ(simd_candidates, keys) << what << ": the portable OHC finds other candidates";
+      } else if (levels == 3) {
+        hash_candidates = std::move(keys);
+      } else {
+        EXPECT_TRUE(std::includes(hash_candidates.begin(), hash_candidates.end(), keys.begin(), keys.end()))
+            << what << ": the cluster-pair path finds candidates the cell hash does not";
       }
     }
   }

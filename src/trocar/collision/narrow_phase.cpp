@@ -154,12 +154,8 @@ struct ScalarStage {
 
 }  // namespace
 
-void exact_candidate(const CollisionObject& oa, const CollisionObject& ob, const CandidatePair& pair,
-                     std::vector<Contact>& out) {
-  const Triangle& ta = oa.triangles[pair.triangle_a];
-  const Triangle& tb = ob.triangles[pair.triangle_b];
-  const TriTriResult r = intersect_triangles(oa.positions[ta[0]], oa.positions[ta[1]], oa.positions[ta[2]],
-                                             ob.positions[tb[0]], ob.positions[tb[1]], ob.positions[tb[2]]);
+void append_contact(const CollisionObject& oa, const CollisionObject& ob, const CandidatePair& pair,
+                    const TriTriResult& r, std::vector<Contact>& out) {
   if (!r.intersects) return;
   Contact c;
   c.object_a = pair.object_a;
@@ -172,6 +168,76 @@ void exact_candidate(const CollisionObject& oa, const CollisionObject& ob, const
   c.segment_q = r.q;
   out.push_back(c);
 }
+
+void exact_candidate(const CollisionObject& oa, const CollisionObject& ob, const CandidatePair& pair,
+                     std::vector<Contact>& out) {
+  const Triangle& ta = oa.triangles[pair.triangle_a];
+  const Triangle& tb = ob.triangles[pair.triangle_b];
+  append_contact(oa, ob, pair,
+                 intersect_triangles(oa.positions[ta[0]], oa.positions[ta[1]], oa.positions[ta[2]],
+                                     ob.positions[tb[0]], ob.positions[tb[1]], ob.positions[tb[2]]),
+                 out);
+}
+
+namespace {
+
+// The candidates the vector rejection tests keep, up to eight (AVX-512) or four (AVX2), for the
+// vector exact test (those it leaves go through intersect_triangles one by one). The same
+// contacts as one exact_candidate() each.
+class ExactBatch {
+ public:
+  explicit ExactBatch(bool avx512) : capacity_(avx512 ? 8 : 4) {}
+
+  void add(std::span<const CollisionObject> objects, const CandidatePair& pair, std::vector<Contact>& out) {
+    pairs_[count_++] = &pair;
+    if (count_ == capacity_) flush(objects, out);
+  }
+
+  void flush(std::span<const CollisionObject> objects, std::vector<Contact>& out) {
+    if (count_ == 0) return;
+    if (capacity_ == 8) {
+      run<8>(objects, out, [](const Vec3* const (&c)[8][6], TriTriResult (&r)[8]) { return exact8_avx512(c, r); });
+    } else {
+      run<4>(objects, out, [](const Vec3* const (&c)[4][6], TriTriResult (&r)[4]) { return exact4_avx2(c, r); });
+    }
+    count_ = 0;
+  }
+
+ private:
+  template <int kLanes, class Kernel>
+  void run(std::span<const CollisionObject> objects, std::vector<Contact>& out, Kernel kernel) {
+    const Vec3* corners[kLanes][6];
+    for (int k = 0; k < kLanes; ++k) {
+      const CandidatePair& pair = *pairs_[k < count_ ? k : 0];  // spare lanes repeat the first
+      const CollisionObject& oa = objects[pair.object_a];
+      const CollisionObject& ob = objects[pair.object_b];
+      const Triangle& ta = oa.triangles[pair.triangle_a];
+      const Triangle& tb = ob.triangles[pair.triangle_b];
+      for (int c = 0; c < 3; ++c) {
+        corners[k][c] = &oa.positions[ta[c]];
+        corners[k][3 + c] = &ob.positions[tb[c]];
+      }
+    }
+    TriTriResult r[kLanes];
+    const int done = kernel(corners, r);
+    for (int k = 0; k < count_; ++k) {
+      const CandidatePair& pair = *pairs_[k];
+      const CollisionObject& oa = objects[pair.object_a];
+      const CollisionObject& ob = objects[pair.object_b];
+      if (done >> k & 1) {
+        append_contact(oa, ob, pair, r[k], out);
+      } else {
+        exact_candidate(oa, ob, pair, out);
+      }
+    }
+  }
+
+  const CandidatePair* pairs_[8] = {};
+  int count_ = 0;
+  int capacity_;
+};
+
+}  // namespace
 
 namespace {
 
@@ -225,24 +291,44 @@ void narrow_phase(std::span<const CollisionObject> objects, std::span<const Cand
   using namespace narrow_detail;
   out.clear();
   const bool simd = allow_simd && cpu_has_avx2_fma();
+  const bool avx512 = simd && cpu_has_avx512();
   ScalarStage scalar;
   PlaneStage s;
+  ExactBatch batch(avx512);
+  // How many candidates from k on share pairs[k]'s object pair (counted up to 8).
+  const auto same_objects = [&](std::size_t k) {
+    std::size_t run = 1;
+    while (run < 8 && k + run < pairs.size() && pairs[k + run].object_a == pairs[k].object_a &&
+           pairs[k + run].object_b == pairs[k].object_b)
+      ++run;
+    return run;
+  };
   for (std::size_t k = 0; k < pairs.size();) {
     const CandidatePair& pair = pairs[k];
     const CollisionObject& oa = objects[pair.object_a];
     const CollisionObject& ob = objects[pair.object_b];
-    // Four candidates of one object pair at a time on the AVX2 path; the rest one by one.
-    if (simd && k + 4 <= pairs.size() && pairs[k + 3].object_a == pair.object_a &&
-        pairs[k + 3].object_b == pair.object_b && pairs[k + 1].object_a == pair.object_a &&
-        pairs[k + 1].object_b == pair.object_b && pairs[k + 2].object_a == pair.object_a &&
-        pairs[k + 2].object_b == pair.object_b) {
-      reject4_avx2(oa, ob, &pairs[k], out);
+    // Eight (AVX-512) or four (AVX2) candidates of one object pair at a time; the rest one by one.
+    const std::size_t run = simd ? same_objects(k) : 1;
+    if (run == 8 && avx512) {
+      const int keep = reject8_avx512(oa, ob, &pairs[k]);
+      for (int lane = 0; lane < 8; ++lane) {
+        if (keep >> lane & 1) batch.add(objects, pairs[k + static_cast<std::size_t>(lane)], out);
+      }
+      k += 8;
+      continue;
+    }
+    if (run >= 4) {
+      const int keep = reject4_avx2(oa, ob, &pairs[k]);
+      for (int lane = 0; lane < 4; ++lane) {
+        if (keep >> lane & 1) batch.add(objects, pairs[k + static_cast<std::size_t>(lane)], out);
+      }
       k += 4;
       continue;
     }
     if (scalar.run(oa, ob, pair, s) && !separated_on_line(s)) exact_candidate(oa, ob, pair, out);
     ++k;
   }
+  batch.flush(objects, out);
   sort_contacts(out);
 }
 

@@ -3,7 +3,8 @@
 // the portable path (narrow_phase.cpp) run on all four lanes — A's plane against B's corners, B's
 // plane against A's corners (each with the conservative 1e-9·L margin), then the interval test
 // on the line nA × nB (Möller, "A Fast Triangle-Triangle Intersection Test", JGT 1997, made
-// conservative as there). Only the candidates no test rejects go, one by one, to the exact test.
+// conservative as there). The candidates no test rejects go on to the exact test (narrow_phase.cpp
+// batches them).
 // FMA and one reciprocal per edge round differently from the portable path by a few ulp, which
 // the margins (orders of magnitude wider) absorb: both paths reject only pairs the exact test
 // rejects, so the contacts are the same.
@@ -132,8 +133,8 @@ struct Interval4 {
 
 }  // namespace
 
-__attribute__((target("avx2,fma"))) void reject4_avx2(const CollisionObject& oa, const CollisionObject& ob,
-                                                           const CandidatePair* pairs, std::vector<Contact>& out) {
+__attribute__((target("avx2,fma"))) int reject4_avx2(const CollisionObject& oa, const CollisionObject& ob,
+                                                          const CandidatePair* pairs) {
   const Vec3* pa = oa.positions.data();
   const Vec3* pb = ob.positions.data();
   const Triangle* ta[4];
@@ -176,7 +177,7 @@ __attribute__((target("avx2,fma"))) void reject4_avx2(const CollisionObject& oa,
   const __m256d da2 = dot(plane_b.n, sub(ra2, rb0));
   const __m256d sep_b = separated(plane_b, da0, da1, da2, size2);
   const __m256d planes_keep = _mm256_andnot_pd(_mm256_or_pd(sep_a, sep_b), finite);
-  if (_mm256_movemask_pd(planes_keep) == 0) return;
+  if (_mm256_movemask_pd(planes_keep) == 0) return 0;
 
   // The interval test on the lanes the planes kept (as separated_on_line in narrow_phase.cpp).
   const V3 dir = cross(plane_a.n, plane_b.n);
@@ -206,15 +207,12 @@ __attribute__((target("avx2,fma"))) void reject4_avx2(const CollisionObject& oa,
   const __m256d gap = _mm256_sub_pd(_mm256_max_pd(ia4.lo, ib4.lo), _mm256_min_pd(ia4.hi, ib4.hi));
   const __m256d apart = both(gt(gap, zero), gt(_mm256_mul_pd(gap, gap), _mm256_mul_pd(_mm256_mul_pd(_mm256_set1_pd(1e-14), size2), dir2)));
   const __m256d sep_line = both(both(line_ok, nonempty), apart);
-  const int keep = _mm256_movemask_pd(_mm256_andnot_pd(sep_line, planes_keep));
-  for (int k = 0; k < 4; ++k) {
-    if (keep >> k & 1) exact_candidate(oa, ob, pairs[k], out);
-  }
+  return _mm256_movemask_pd(_mm256_andnot_pd(sep_line, planes_keep));
 }
 
 #else
 
-void reject4_avx2(const CollisionObject&, const CollisionObject&, const CandidatePair*, std::vector<Contact>&) {
+int reject4_avx2(const CollisionObject&, const CollisionObject&, const CandidatePair*) {
   std::abort();  // never called: cpu_has_avx2_fma() is false
 }
 

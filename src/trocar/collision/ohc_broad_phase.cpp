@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstddef>
 #include <limits>
 #include <stdexcept>
 
+#include "trocar/collision/ohc_kernels.h"
 #include "trocar/core/cpu_features.h"
 
 #if defined(__SSE2__)
@@ -62,13 +64,9 @@ bool raw_box_outside(const Vec3& a, const Vec3& b, const Vec3& c, const Real (&g
 #endif
 }
 
-// How far ahead (in cluster vertex entries, ~40 clusters or 30 KB of positions) the refit
-// prefetches positions (into L2). Measured on the 720K sheet (bench_collision, scene c): 48
-// entries 1.8 ms per frame, 160 1.5 ms, 640 1.2 ms, 1280 1.1 ms, 2560 1.1 ms; memory latency
-// here is long compared with the ~1.5 ns a vertex takes.
-constexpr std::uint32_t kRefitPrefetch = 1280;
-// Objects with more vertices than this (1.5 MB of positions, beyond a core's L2) are prefetched.
-constexpr std::size_t kRefitPrefetchVertices = 65536;
+// Up to this many (cluster of one object, cluster of the other) pairs the cluster cascade tests
+// them all instead of sorting the clusters for a sweep.
+constexpr std::size_t kAllPairsClusters = 1024;
 
 // Spreads the low 21 bits of x to every third bit (Morton code helper).
 std::uint64_t spread_bits(std::uint64_t x) {
@@ -135,13 +133,28 @@ void OhcBroadPhase::build_clusters(ObjectClusters& c, const CollisionObject& obj
     for (const std::uint32_t v : ids) c.vertices.push_back(3 * v);
     c.vertex_start[k + 1] = static_cast<std::uint32_t>(c.vertices.size());
   }
+  const std::uint32_t groups = (clusters + kGroupClusters - 1) / kGroupClusters;
+  c.group_start.assign(groups + 1, 0);
+  c.group_vertices.clear();
+  for (std::uint32_t g = 0; g < groups; ++g) {
+    ids.assign(c.vertices.begin() + c.vertex_start[g * kGroupClusters],
+               c.vertices.begin() + c.vertex_start[std::min(clusters, (g + 1) * kGroupClusters)]);
+    std::sort(ids.begin(), ids.end());
+    ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+    c.group_vertices.insert(c.group_vertices.end(), ids.begin(), ids.end());
+    c.group_start[g + 1] = static_cast<std::uint32_t>(c.group_vertices.size());
+  }
   // Padding read only by the refit's prefetch (vertex 0 exists whenever a cluster does).
-  c.vertices.insert(c.vertices.end(), kRefitPrefetch, 0u);
+  c.vertices.insert(c.vertices.end(), ohc_detail::kRefitPrefetch, 0u);
+  c.group_vertices.insert(c.group_vertices.end(), ohc_detail::kRefitPrefetch, 0u);
   c.boxes.resize(clusters);
   c.regions.assign(clusters, Aabb{});
-  c.groups.resize((clusters + kGroupClusters - 1) / kGroupClusters);
+  c.groups.resize(groups);
+  c.refitted.assign(groups, 0);
   c.touched.clear();
   c.touched.reserve(clusters);
+  c.prim_first.assign(clusters, 0);
+  c.prim_count.assign(clusters, 0);
 }
 
 void OhcBroadPhase::expand_region(std::uint32_t object, std::uint32_t cluster, const Aabb& box) {
@@ -151,7 +164,57 @@ void OhcBroadPhase::expand_region(std::uint32_t object, std::uint32_t cluster, c
   c.regions[cluster].expand(box);
 }
 
-void OhcBroadPhase::cluster_cascade(std::uint32_t i, std::uint32_t j) {
+Aabb OhcBroadPhase::refit_groups(ObjectClusters& c, const CollisionObject& object, bool simd, bool all_clusters) {
+  Aabb box;
+  if (c.boxes.empty()) return box;
+  // The positions as flat doubles (Vec3 is three packed doubles); ids are offsets into them.
+  const Real* p = object.positions.data()->data();
+  const bool prefetch = object.positions.size() > ohc_detail::kRefitPrefetchVertices;
+  Real lo[3];
+  Real hi[3];
+  if (c.groups.size() <= 2) {
+    // A small object (a tool): its clusters are usually all needed, so their boxes come first
+    // and the groups' are their unions (a NaN box left out), which reads each vertex less often.
+    ohc_detail::refit_lists(p, c.vertices.data(), c.vertex_start.data(), c.boxes.size(), c.boxes.data(), lo, hi,
+                            false, simd, prefetch);
+    for (std::size_t g = 0; g < c.groups.size(); ++g) {
+      Aabb group;
+      for (std::size_t k = g * kGroupClusters; k < std::min(c.boxes.size(), (g + 1) * kGroupClusters); ++k) {
+        for (int a = 0; a < 3; ++a) {
+          group.min[a] = std::min(group.min[a], c.boxes[k].min[a]);
+          group.max[a] = std::max(group.max[a], c.boxes[k].max[a]);
+        }
+      }
+      c.groups[g] = group;
+    }
+    std::fill(c.refitted.begin(), c.refitted.end(), std::uint8_t{1});
+  } else {
+    ohc_detail::refit_lists(p, c.group_vertices.data(), c.group_start.data(), c.groups.size(), c.groups.data(), lo,
+                            hi, true, simd, prefetch);
+    std::fill(c.refitted.begin(), c.refitted.end(), std::uint8_t{0});
+    if (all_clusters) {
+      for (std::size_t g = 0; g < c.groups.size(); ++g) refit_group_clusters(c, object, g, simd);
+    }
+  }
+  box.min = Vec3(lo[0], lo[1], lo[2]);
+  box.max = Vec3(hi[0], hi[1], hi[2]);
+  // The same inflation as object_box() (of the referenced vertices only).
+  return box.inflated(kBoxMargin * box.size().maxCoeff());
+}
+
+void OhcBroadPhase::refit_group_clusters(ObjectClusters& c, const CollisionObject& object, std::size_t g, bool simd) {
+  if (c.refitted[g]) return;
+  c.refitted[g] = 1;
+  const std::size_t first = g * kGroupClusters;
+  const std::size_t count = std::min<std::size_t>(kGroupClusters, c.boxes.size() - first);
+  Real lo[3];
+  Real hi[3];
+  ohc_detail::refit_lists(object.positions.data()->data(), c.vertices.data(), c.vertex_start.data() + first, count,
+                          c.boxes.data() + first, lo, hi, false, simd,
+                          object.positions.size() > ohc_detail::kRefitPrefetchVertices);
+}
+
+void OhcBroadPhase::cluster_cascade(std::span<const CollisionObject> objects, std::uint32_t i, std::uint32_t j) {
   // The clusters of i and j whose grown boxes touch the overlap of the object boxes, swept on
   // x: sorted by lower x, each item meets the later ones that start before it ends. A pair of
   // different sides whose grown boxes overlap adds their overlap to both clusters' regions.
@@ -163,14 +226,16 @@ void OhcBroadPhase::cluster_cascade(std::uint32_t i, std::uint32_t j) {
   sweep_.clear();
   for (std::uint32_t side = 0; side < 2; ++side) {
     const std::uint32_t object = side == 0 ? i : j;
-    const ObjectClusters& c = clusters_[object];
+    ObjectClusters& c = clusters_[object];
     const Real margin = margins_[object];
-    // Groups of kGroupClusters clusters first: a group box holds its clusters' boxes (min and
+    // Groups of kGroupClusters clusters first: a group box holds its clusters' vertices (min and
     // max are exact, and growing by the margin is monotone), so a group whose grown box misses
-    // the overlap has no cluster that touches it. (A NaN coordinate is left out of the group
-    // box; that cluster's own test below fails anyway.)
+    // the overlap has no cluster that touches it; only the groups that pass have their clusters'
+    // boxes refitted. (A NaN coordinate is left out of the group box; that cluster's own test
+    // below fails anyway.)
     for (std::size_t g = 0; g < c.groups.size(); ++g) {
       if (!c.groups[g].inflated(margin).overlaps(overlap)) continue;
+      refit_group_clusters(c, objects[object], g, settings_.simd);
       const auto first = static_cast<std::uint32_t>(g * kGroupClusters);
       const auto last = static_cast<std::uint32_t>(std::min<std::size_t>(c.boxes.size(), first + kGroupClusters));
       for (std::uint32_t k = first; k < last; ++k) {
@@ -179,6 +244,26 @@ void OhcBroadPhase::cluster_cascade(std::uint32_t i, std::uint32_t j) {
         if (grown.overlaps(overlap)) sweep_.push_back({grown, side, k});
       }
     }
+  }
+  // Few clusters on the two sides (the usual case: a tool against the patch it presses on):
+  // every pair of the two sides is tested, which costs less than sorting for the sweep. The same
+  // pairs either way; only their order differs.
+  const auto second = std::find_if(sweep_.begin(), sweep_.end(), [](const SweepItem& item) { return item.side == 1; });
+  const auto side0 = static_cast<std::size_t>(second - sweep_.begin());
+  if (side0 * (sweep_.size() - side0) <= kAllPairsClusters) {
+    for (std::size_t a = 0; a < side0; ++a) {
+      const SweepItem& p = sweep_[a];
+      for (std::size_t b = side0; b < sweep_.size(); ++b) {
+        const SweepItem& q = sweep_[b];
+        if (!p.box.overlaps(q.box)) continue;
+        const Aabb both = p.box.intersection(q.box);
+        expand_region(i, p.cluster, both);
+        expand_region(j, q.cluster, both);
+        cluster_pair_list_.push_back({both, i, p.cluster, j, q.cluster});
+        ++stats_.cluster_pairs;
+      }
+    }
+    return;
   }
   std::sort(sweep_.begin(), sweep_.end(), [](const SweepItem& a, const SweepItem& b) {
     if (a.box.min.x() != b.box.min.x()) return a.box.min.x() < b.box.min.x();
@@ -195,6 +280,7 @@ void OhcBroadPhase::cluster_cascade(std::uint32_t i, std::uint32_t j) {
     const SweepItem& p = sweep_[a];
     for (std::size_t b = a + 1; b < count && sweep_[b].box.min.x() <= p.box.max.x(); ++b) {
       if (++steps > budget) {
+        sweeps_complete_ = false;  // the cluster pairs are not all known: hash this frame
         for (const SweepItem& item : sweep_) {
           expand_region(item.side == 0 ? i : j, item.cluster, item.box.intersection(overlap));
         }
@@ -205,195 +291,11 @@ void OhcBroadPhase::cluster_cascade(std::uint32_t i, std::uint32_t j) {
       const Aabb both = p.box.intersection(q.box);
       expand_region(p.side == 0 ? i : j, p.cluster, both);
       expand_region(q.side == 0 ? i : j, q.cluster, both);
+      const bool p_first = p.side == 0;
+      cluster_pair_list_.push_back({both, i, p_first ? p.cluster : q.cluster, j, p_first ? q.cluster : p.cluster});
       ++stats_.cluster_pairs;
     }
   }
-}
-
-#if defined(__x86_64__) && defined(__GNUC__)
-#define TROCAR_OHC_AVX2 1
-// The refit with 256-bit registers: one 32-byte load brings a vertex's x, y, z (and the next
-// vertex's x in the fourth lane, which is never used), one min and one max per vertex; two
-// accumulators break the latency chain. Ids are ascending within a cluster, so only its last one
-// can be the array's last vertex: that one is loaded with the fourth lane masked, and nothing
-// past the positions array is read. Compiled for AVX2 whatever the build flags and used only
-// when the CPU has it (checked once). min/max of doubles are exact, so the boxes are
-// bit-identical to the scalar path's except possibly for the sign of a zero or which NaN.
-template <bool kPrefetch>
-__attribute__((target("avx2"))) static void refit_boxes_avx2(const Real* p, const std::uint32_t* ids,
-                                                             const std::uint32_t* vertex_start,
-                                                             std::size_t clusters, Aabb* boxes, Aabb* groups,
-                                                             Real* olo, Real* ohi) {
-  constexpr Real kInf = std::numeric_limits<Real>::infinity();
-  const __m256i mask = _mm256_setr_epi64x(-1, -1, -1, 0);
-  __m256d obj_lo = _mm256_set1_pd(kInf);
-  __m256d obj_hi = _mm256_set1_pd(-kInf);
-  __m256d group_lo = obj_lo;
-  __m256d group_hi = obj_hi;
-  for (std::size_t k = 0; k < clusters; ++k) {
-    const std::uint32_t begin = vertex_start[k];
-    const std::uint32_t end = vertex_start[k + 1];
-    __m256d lo0 = _mm256_set1_pd(kInf), lo1 = lo0, hi0 = _mm256_set1_pd(-kInf), hi1 = hi0;
-    // Pointers rather than 32-bit indices: no zero-extension per step. Four vertices per step,
-    // one prefetch per step (a prefetched line usually holds the next ids' vertices too).
-    const std::uint32_t* it = ids + begin;
-    const std::uint32_t* last = ids + end - 1;  // clusters are never empty
-    for (; it + 3 < last; it += 4) {
-      // Large meshes: the ids run on past this cluster (padded at the end), so the vertices ~40
-      // clusters ahead are requested now; positions just rewritten come from memory, and the
-      // clusters' scattered rows defeat the hardware prefetcher. (Small meshes sit in cache.)
-      if constexpr (kPrefetch) {
-        _mm_prefetch(reinterpret_cast<const char*>(p + it[kRefitPrefetch]), _MM_HINT_T1);
-        _mm_prefetch(reinterpret_cast<const char*>(p + it[kRefitPrefetch + 2]), _MM_HINT_T1);
-      }
-      const __m256d x0 = _mm256_loadu_pd(p + it[0]);
-      const __m256d x1 = _mm256_loadu_pd(p + it[1]);
-      const __m256d x2 = _mm256_loadu_pd(p + it[2]);
-      const __m256d x3 = _mm256_loadu_pd(p + it[3]);
-      lo0 = _mm256_min_pd(lo0, _mm256_min_pd(x0, x2));
-      hi0 = _mm256_max_pd(hi0, _mm256_max_pd(x0, x2));
-      lo1 = _mm256_min_pd(lo1, _mm256_min_pd(x1, x3));
-      hi1 = _mm256_max_pd(hi1, _mm256_max_pd(x1, x3));
-    }
-    for (; it < last; ++it) {
-      const __m256d x0 = _mm256_loadu_pd(p + *it);
-      lo0 = _mm256_min_pd(lo0, x0);
-      hi0 = _mm256_max_pd(hi0, x0);
-    }
-    const __m256d x_last = _mm256_maskload_pd(p + *last, mask);
-    lo1 = _mm256_min_pd(lo1, x_last);
-    hi1 = _mm256_max_pd(hi1, x_last);
-    const __m256d lo = _mm256_min_pd(lo0, lo1);
-    const __m256d hi = _mm256_max_pd(hi0, hi1);
-    alignas(32) Real l[4];
-    alignas(32) Real h[4];
-    _mm256_store_pd(l, lo);
-    _mm256_store_pd(h, hi);
-    boxes[k].min = Vec3(l[0], l[1], l[2]);
-    boxes[k].max = Vec3(h[0], h[1], h[2]);
-    obj_lo = _mm256_min_pd(lo, obj_lo);  // = std::min(obj_lo, lo), NaN included
-    obj_hi = _mm256_max_pd(hi, obj_hi);
-    group_lo = _mm256_min_pd(lo, group_lo);
-    group_hi = _mm256_max_pd(hi, group_hi);
-    if ((k + 1) % OhcBroadPhase::kGroupClusters == 0 || k + 1 == clusters) {
-      _mm256_store_pd(l, group_lo);
-      _mm256_store_pd(h, group_hi);
-      groups[k / OhcBroadPhase::kGroupClusters].min = Vec3(l[0], l[1], l[2]);
-      groups[k / OhcBroadPhase::kGroupClusters].max = Vec3(h[0], h[1], h[2]);
-      group_lo = _mm256_set1_pd(kInf);
-      group_hi = _mm256_set1_pd(-kInf);
-    }
-  }
-  alignas(32) Real l[4];
-  alignas(32) Real h[4];
-  _mm256_store_pd(l, obj_lo);
-  _mm256_store_pd(h, obj_hi);
-  for (int a = 0; a < 3; ++a) {
-    olo[a] = l[a];
-    ohi[a] = h[a];
-  }
-}
-
-#endif
-
-Aabb OhcBroadPhase::refit_clusters(ObjectClusters& c, const CollisionObject& object, bool simd) {
-  // The positions as flat doubles (Vec3 is three packed doubles); ids are offsets into them.
-  const Real* p = object.positions.empty() ? nullptr : object.positions.data()->data();
-  const std::uint32_t* ids = c.vertices.data();
-  constexpr Real kInf = std::numeric_limits<Real>::infinity();
-  Real olo[3] = {kInf, kInf, kInf};
-  Real ohi[3] = {-kInf, -kInf, -kInf};
-  Real group_lo[3] = {kInf, kInf, kInf};  // the scalar path's current group
-  Real group_hi[3] = {-kInf, -kInf, -kInf};
-  std::size_t first_sse_cluster = 0;  // all clusters when the AVX2 path ran
-#if defined(TROCAR_OHC_AVX2)
-  if (simd && cpu_has_avx2()) {
-    if (object.positions.size() > kRefitPrefetchVertices) {
-      refit_boxes_avx2<true>(p, ids, c.vertex_start.data(), c.boxes.size(), c.boxes.data(), c.groups.data(), olo,
-                             ohi);
-    } else {
-      refit_boxes_avx2<false>(p, ids, c.vertex_start.data(), c.boxes.size(), c.boxes.data(), c.groups.data(), olo,
-                              ohi);
-    }
-    first_sse_cluster = c.boxes.size();
-  }
-#endif
-  for (std::size_t k = first_sse_cluster; k + 1 < c.vertex_start.size(); ++k) {
-    const std::uint32_t begin = c.vertex_start[k];
-    const std::uint32_t end = c.vertex_start[k + 1];
-    Real lo[3];
-    Real hi[3];
-#if defined(__SSE2__)
-    // x and y packed in one register, z alone; two accumulators break the min/max latency chain
-    // (this loop is the one pass over the positions that the cascade needs).
-    __m128d lo_xy0 = _mm_set1_pd(kInf), lo_xy1 = lo_xy0, hi_xy0 = _mm_set1_pd(-kInf), hi_xy1 = hi_xy0;
-    __m128d lo_z0 = _mm_set_sd(kInf), lo_z1 = lo_z0, hi_z0 = _mm_set_sd(-kInf), hi_z1 = hi_z0;
-    std::uint32_t i = begin;
-    for (; i + 1 < end; i += 2) {
-      const Real* x0 = p + ids[i];
-      const Real* x1 = p + ids[i + 1];
-      const __m128d xy0 = _mm_loadu_pd(x0);
-      const __m128d xy1 = _mm_loadu_pd(x1);
-      const __m128d z0 = _mm_load_sd(x0 + 2);
-      const __m128d z1 = _mm_load_sd(x1 + 2);
-      lo_xy0 = _mm_min_pd(lo_xy0, xy0);
-      hi_xy0 = _mm_max_pd(hi_xy0, xy0);
-      lo_xy1 = _mm_min_pd(lo_xy1, xy1);
-      hi_xy1 = _mm_max_pd(hi_xy1, xy1);
-      lo_z0 = _mm_min_sd(lo_z0, z0);
-      hi_z0 = _mm_max_sd(hi_z0, z0);
-      lo_z1 = _mm_min_sd(lo_z1, z1);
-      hi_z1 = _mm_max_sd(hi_z1, z1);
-    }
-    if (i < end) {
-      const Real* x0 = p + ids[i];
-      const __m128d xy0 = _mm_loadu_pd(x0);
-      const __m128d z0 = _mm_load_sd(x0 + 2);
-      lo_xy0 = _mm_min_pd(lo_xy0, xy0);
-      hi_xy0 = _mm_max_pd(hi_xy0, xy0);
-      lo_z0 = _mm_min_sd(lo_z0, z0);
-      hi_z0 = _mm_max_sd(hi_z0, z0);
-    }
-    _mm_storeu_pd(lo, _mm_min_pd(lo_xy0, lo_xy1));
-    _mm_storeu_pd(hi, _mm_max_pd(hi_xy0, hi_xy1));
-    _mm_store_sd(lo + 2, _mm_min_sd(lo_z0, lo_z1));
-    _mm_store_sd(hi + 2, _mm_max_sd(hi_z0, hi_z1));
-#else
-    for (int a = 0; a < 3; ++a) {
-      lo[a] = kInf;
-      hi[a] = -kInf;
-    }
-    for (std::uint32_t i = begin; i < end; ++i) {
-      const Real* x = p + ids[i];
-      for (int a = 0; a < 3; ++a) {
-        lo[a] = std::min(lo[a], x[a]);
-        hi[a] = std::max(hi[a], x[a]);
-      }
-    }
-#endif
-    c.boxes[k].min = Vec3(lo[0], lo[1], lo[2]);
-    c.boxes[k].max = Vec3(hi[0], hi[1], hi[2]);
-    for (int a = 0; a < 3; ++a) {
-      olo[a] = std::min(olo[a], lo[a]);
-      ohi[a] = std::max(ohi[a], hi[a]);
-      group_lo[a] = std::min(group_lo[a], lo[a]);
-      group_hi[a] = std::max(group_hi[a], hi[a]);
-    }
-    if ((k + 1) % kGroupClusters == 0 || k + 2 == c.vertex_start.size()) {
-      c.groups[k / kGroupClusters].min = Vec3(group_lo[0], group_lo[1], group_lo[2]);
-      c.groups[k / kGroupClusters].max = Vec3(group_hi[0], group_hi[1], group_hi[2]);
-      for (int a = 0; a < 3; ++a) {
-        group_lo[a] = kInf;
-        group_hi[a] = -kInf;
-      }
-    }
-  }
-  Aabb box;
-  if (c.boxes.empty()) return box;
-  box.min = Vec3(olo[0], olo[1], olo[2]);
-  box.max = Vec3(ohi[0], ohi[1], ohi[2]);
-  // The same inflation as object_box() (of the referenced vertices only).
-  return box.inflated(kBoxMargin * box.size().maxCoeff());
 }
 
 void OhcBroadPhase::cell_range(Primitive& prim, Real inv_h) {
@@ -427,6 +329,8 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
   stats_ = {};
   const auto n = static_cast<std::uint32_t>(objects.size());
   primitives_.clear();
+  cluster_pair_list_.clear();
+  sweeps_complete_ = true;
   if (n < 2) return;
 
   // 1. Object boxes and the tested, overlapping pairs.
@@ -441,7 +345,8 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
         c.vertex_count != object.positions.size()) {
       build_clusters(c, object);  // first frame or another object: allocates
     }
-    boxes_[i] = refit_clusters(c, object, settings_.simd);
+    // Without the cluster level every cluster may open: all their boxes now.
+    boxes_[i] = refit_groups(c, object, settings_.simd, !(settings_.cascade && settings_.cluster_cascade));
   }
   const bool by_cluster = settings_.cascade && settings_.cluster_cascade;
   margins_.resize(n);
@@ -470,7 +375,7 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
         const Aabb overlap = boxes_[i].intersection(boxes_[j]);
         regions_[i].expand(overlap);
         regions_[j].expand(overlap);
-        if (by_cluster) cluster_cascade(i, j);
+        if (by_cluster) cluster_cascade(objects, i, j);
       } else {
         regions_[i] = boxes_[i];
         regions_[j] = boxes_[j];
@@ -484,8 +389,35 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
   //    intersect, a common point x lies in both inflated triangle boxes and so in both object
   //    boxes, hence in box_i ∩ box_j ⊆ region_i ∩ region_j: both pass and their clipped boxes
   //    still share x.
-  Real edge_sum2 = 0;  // Σ squared edge lengths of the hashed primitives
-  std::size_t edge_count = 0;
+  //    The boxes go to one array per axis and side (what the box tests read four or eight at a
+  //    time), sized for every triangle of the clusters that may open.
+  std::size_t bound = 0;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    if (regions_[i].is_empty()) continue;
+    bound += by_cluster ? kClusterTriangles * clusters_[i].touched.size() : objects[i].triangles.size();
+  }
+  if (opened_stride_ < bound + 8) {
+    opened_stride_ = bound + 8;
+    opened_boxes_.assign((6 + 2 * ohc_detail::kDopAxes) * opened_stride_, 0.0);
+    opened_ids_.resize(opened_stride_);
+  }
+  Real* const box_lo[3] = {opened_boxes_.data(), opened_boxes_.data() + opened_stride_,
+                           opened_boxes_.data() + 2 * opened_stride_};
+  Real* const box_hi[3] = {box_lo[2] + opened_stride_, box_lo[2] + 2 * opened_stride_, box_lo[2] + 3 * opened_stride_};
+  std::uint32_t opened = 0;  // triangles that passed
+  // Eight triangles at a time where the CPU has AVX-512 (the same triangles and boxes).
+  const bool avx512 = settings_.simd && cpu_has_avx512();
+  static_assert(sizeof(OpenedId) == 8 && offsetof(OpenedId, object) == 0, "the AVX-512 kernel writes ids as 64 bits");
+  ohc_detail::OpenedArrays opened_arrays = {{box_lo[0], box_lo[1], box_lo[2]},
+                                            {box_hi[0], box_hi[1], box_hi[2]},
+                                            {},
+                                            {},
+                                            reinterpret_cast<std::uint64_t*>(opened_ids_.data())};
+  for (int k = 0; k < ohc_detail::kDopAxes; ++k) {
+    const auto lower = static_cast<std::size_t>(6 + k);
+    opened_arrays.dop_lo[k] = opened_boxes_.data() + lower * opened_stride_;
+    opened_arrays.dop_hi[k] = opened_boxes_.data() + (lower + ohc_detail::kDopAxes) * opened_stride_;
+  }
   for (std::uint32_t i = 0; i < n; ++i) {
     const Aabb& region = regions_[i];
     if (region.is_empty()) continue;
@@ -502,6 +434,11 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
     const std::size_t to_visit = by_cluster ? c.touched.size() : c.boxes.size();
     for (std::size_t v = 0; v < to_visit; ++v) {
       const std::uint32_t k = by_cluster ? c.touched[v] : static_cast<std::uint32_t>(v);
+      const std::uint32_t first_prim = opened;
+      if (by_cluster) {
+        c.prim_first[k] = first_prim;
+        c.prim_count[k] = 0;
+      }
       if (!c.boxes[k].overlaps(grown)) continue;
       // With the cluster level, the cluster's own region (the overlaps of its grown box with
       // partner clusters' grown boxes) narrows the object's; a common point of two inflated
@@ -517,6 +454,15 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
       const Real g_lo[3] = {clip_grown.min.x(), clip_grown.min.y(), clip_grown.min.z()};
       const Real g_hi[3] = {clip_grown.max.x(), clip_grown.max.y(), clip_grown.max.z()};
       const std::uint32_t end = std::min(triangle_count, (k + 1) * kClusterTriangles);
+      if (avx512) {
+        const Real c_lo[3] = {clip.min.x(), clip.min.y(), clip.min.z()};
+        const Real c_hi[3] = {clip.max.x(), clip.max.y(), clip.max.z()};
+        const std::uint32_t o = k * kClusterTriangles;
+        opened = ohc_detail::open_cluster_avx512(p, c.ordered.data() + o, c.order.data() + o, end - o, i, c_lo, c_hi,
+                                                 g_lo, g_hi, opened_arrays, opened);
+        if (by_cluster) c.prim_count[k] = opened - first_prim;
+        continue;
+      }
       for (std::uint32_t o = k * kClusterTriangles; o < end; ++o) {
         const Triangle& tri = c.ordered[o];
         const Vec3& a = p[tri[0]];
@@ -528,19 +474,58 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
         const std::uint32_t t = c.order[o];
         const Aabb box = triangle_box(a, b, cc).intersection(clip);
         if (box.is_empty()) continue;
-        Primitive prim;
-        prim.min = box.min;
-        prim.max = box.max;
-        prim.object = i;
-        prim.triangle = t;
-        primitives_.push_back(prim);
-        edge_sum2 += (b - a).squaredNorm() + (cc - b).squaredNorm() + (a - cc).squaredNorm();
-        edge_count += 3;
+        for (int axis = 0; axis < 3; ++axis) {
+          box_lo[axis][opened] = box.min[axis];
+          box_hi[axis][opened] = box.max[axis];
+        }
+        Real d_lo[ohc_detail::kDopAxes];
+        Real d_hi[ohc_detail::kDopAxes];
+        ohc_detail::dop_extents(a, b, cc, d_lo, d_hi);
+        for (int d = 0; d < ohc_detail::kDopAxes; ++d) {
+          opened_arrays.dop_lo[d][opened] = d_lo[d];
+          opened_arrays.dop_hi[d][opened] = d_hi[d];
+        }
+        opened_ids_[opened++] = {i, t};
       }
+      if (by_cluster) c.prim_count[k] = opened - first_prim;
     }
   }
-  stats_.primitives_hashed = static_cast<std::uint32_t>(primitives_.size());
-  if (primitives_.empty()) return;
+  stats_.primitives_hashed = opened;
+  if (opened == 0) return;
+
+  // The cluster-pair path when the pairs are all known and their box tests are few enough to
+  // stay O(primitives): no cells at all.
+  if (by_cluster && sweeps_complete_ && settings_.max_pair_tests_per_primitive > 0) {
+    Real tests = 0;
+    for (const ClusterPair& cp : cluster_pair_list_) {
+      tests += static_cast<Real>(clusters_[cp.i].prim_count[cp.cluster_i]) *
+               static_cast<Real>(clusters_[cp.j].prim_count[cp.cluster_j]);
+    }
+    if (tests <= settings_.max_pair_tests_per_primitive * static_cast<Real>(opened) + 1024.0) {
+      stats_.cluster_pair_path = true;
+      emit_cluster_pairs(objects, out, opened);
+      stats_.candidate_pairs = out.size();
+      return;
+    }
+  }
+
+  // The hash's primitives (boxes and cell ranges together), and the edge lengths for its cells.
+  primitives_.resize(opened);
+  Real edge_sum2 = 0;  // Σ squared edge lengths of the hashed primitives
+  for (std::uint32_t e = 0; e < opened; ++e) {
+    Primitive& prim = primitives_[e];
+    prim.min = Vec3(box_lo[0][e], box_lo[1][e], box_lo[2][e]);
+    prim.max = Vec3(box_hi[0][e], box_hi[1][e], box_hi[2][e]);
+    prim.object = opened_ids_[e].object;
+    prim.triangle = opened_ids_[e].triangle;
+    const CollisionObject& object = objects[prim.object];
+    const Triangle& tri = object.triangles[prim.triangle];
+    const Vec3& a = object.positions[tri[0]];
+    const Vec3& b = object.positions[tri[1]];
+    const Vec3& cc = object.positions[tri[2]];
+    edge_sum2 += (b - a).squaredNorm() + (cc - b).squaredNorm() + (a - cc).squaredNorm();
+  }
+  const std::size_t edge_count = 3 * static_cast<std::size_t>(opened);
 
   // 3. Cell size and cell ranges; double the cell while a few huge boxes would need too many.
   Real h = settings_.cell_size;
@@ -642,7 +627,7 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
   entries_.resize(entry_count);
   // emit_cell_pairs scratch, a cell's worth (the box arrays readable 3 past a cell's end).
   if (cell_starts_.size() < entries_.size()) cell_starts_.resize(entries_.size());
-  if (cell_hits_.size() < entries_.size() + 4) cell_hits_.resize(entries_.size() + 4);
+  if (cell_hits_.size() < entries_.size() + 8) cell_hits_.resize(entries_.size() + 8);
   if (cell_groups_.size() < entries_.size() + 1) cell_groups_.resize(entries_.size() + 1);
   if (cell_stride_ < entries_.size() + 4) {
     cell_stride_ = entries_.size() + 4;

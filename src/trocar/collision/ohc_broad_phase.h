@@ -37,6 +37,15 @@ struct OhcSettings {
   /// would need more (a few huge triangles among tiny ones), the cell size is doubled until it
   /// fits. Keeps memory and time O(primitives) whatever the size mix (dimensionless).
   Real max_cells_per_primitive = 64;
+  /// Cluster-pair path (only with both cascade levels): when the cluster sweep completed and
+  /// Σ over the overlapping cluster pairs of (opened triangles of one) × (of the other) is at most
+  /// this × the opened triangles + 1,024, each cluster pair's triangle boxes are tested against
+  /// each other directly (eight or four at a time), then the hits' extents along six more
+  /// directions, and the cell hash is skipped: a triangle pair lies in exactly one cluster pair,
+  /// so nothing needs deduplicating. The candidates are a subset of the hash's (the extents test
+  /// drops about half of the box hits). 0: always hash (for tests and measurements); infinity:
+  /// always this path when the sweep completed.
+  Real max_pair_tests_per_primitive = 128;
   /// Use the AVX2 kernels (cluster refit, box tests of a cell's pairs) where the CPU has them
   /// and TROCAR_SIMD is not "off". false: the portable code (for tests and comparisons); the
   /// pairs are the same either way.
@@ -57,20 +66,26 @@ struct OhcStats {
   std::uint64_t solo_cells = 0;           ///< touched cells whose primitives are of one object
   std::uint64_t potential_cells = 0;      ///< touched cells with primitives of > 1 object
   std::uint64_t candidate_pairs = 0;      ///< pairs returned (after the box test and dedup)
+  /// The candidates came from the cluster pairs' direct box tests (no cell hash: the entries,
+  /// table and cell counts are 0).
+  bool cluster_pair_path = false;
   Real cell_size = 0;                     ///< cell edge used this frame (metres)
 };
 
 /// The cascaded spatial-hash broad phase.
 ///
 /// Per frame, O(vertices + triangles of the overlapping objects + hashed entries):
-///  1. object boxes (from the cluster boxes of step 2); tested pairs (roles, not the same object) whose boxes overlap;
+///  1. object boxes (from the group boxes of step 2); tested pairs (roles, not the same object) whose boxes overlap;
 ///  2. per object, the region of interest = bounding box of its overlaps with its partners;
 ///     the triangles are grouped once (when an object is first seen) into clusters of
 ///     kClusterTriangles triangles, consecutive in Morton order of their centroids, each with
-///     the list of its vertices; every frame one pass over those lists refits the cluster boxes
-///     (their union is the object box of step 1, so positions are read about once), only
-///     clusters touching the region have their triangles' boxes built, and triangles touching
-///     the region are hashed with their boxes clipped to it;
+///     the list of its vertices, and every kGroupClusters clusters into a group with the merged
+///     list; every frame one pass over the group lists gives the group boxes (their union is
+///     the object box of step 1, so positions are read about once), cluster boxes are refitted
+///     only in the groups near an overlap, only clusters touching the region (and, by default,
+///     a partner's cluster) have their triangles' boxes built, and triangles touching the
+///     region are kept with their boxes clipped to it. Then, by default, the cluster-pair path
+///     (see OhcSettings::max_pair_tests_per_primitive) instead of steps 3–5;
 ///  3. cells of edge h on a lattice anchored at the world origin; each hashed box is entered in
 ///     every cell it touches; cell (x, y, z) goes to slot
 ///     h(x,y,z) = (x·73856093 ⊕ y·19349663 ⊕ z·83492791) mod n (Teschner et al. 2003,
@@ -140,13 +155,30 @@ class OhcBroadPhase final : public BroadPhase {
     /// Each cluster's distinct vertices, ascending, as offsets in doubles into the positions
     /// (3 × vertex id; meshes have far fewer than 2³²/3 vertices).
     std::vector<std::uint32_t> vertices;
-    std::vector<Aabb> boxes;                  ///< per cluster: box of its vertices this frame
-    std::vector<Aabb> groups;                 ///< per kGroupClusters clusters: their boxes' union
+    std::vector<Aabb> boxes;                  ///< per cluster: box of its vertices (see refitted)
+    /// Per kGroupClusters clusters: the distinct vertices of their clusters, as `vertices`
+    /// (group_start: per group, first entry in group_vertices, + end). The refit reads these
+    /// lists every frame (each vertex about once) and the clusters' lists only of the groups the
+    /// cluster sweep meets.
+    std::vector<std::uint32_t> group_start;
+    std::vector<std::uint32_t> group_vertices;
+    std::vector<Aabb> groups;                 ///< per group: box of its vertices this frame
+    std::vector<std::uint8_t> refitted;       ///< per group: its clusters' boxes are this frame's
     /// Per cluster, this frame: bounding box of its (grown) box's overlaps with the (grown)
     /// boxes of its partners' clusters (empty: not opened). Used by the cluster cascade only.
     std::vector<Aabb> regions;
     /// The clusters whose region is not empty this frame, each once (capacity: all clusters).
     std::vector<std::uint32_t> touched;
+    /// Per touched cluster, this frame: its opened triangles ([first, first + count) of the
+    /// opened_ arrays).
+    std::vector<std::uint32_t> prim_first;
+    std::vector<std::uint32_t> prim_count;
+  };
+  /// Two overlapping clusters of a tested object pair (i < j), found by the sweep.
+  struct ClusterPair {
+    Aabb both;                 ///< overlap of the two grown cluster boxes
+    std::uint32_t i, cluster_i;
+    std::uint32_t j, cluster_j;
   };
   /// A cluster in the cluster-vs-cluster sweep: its grown box and where it comes from.
   struct SweepItem {
@@ -156,13 +188,19 @@ class OhcBroadPhase final : public BroadPhase {
   };
 
   static void build_clusters(ObjectClusters& c, const CollisionObject& object);
-  static Aabb refit_clusters(ObjectClusters& c, const CollisionObject& object, bool simd);
-  void cluster_cascade(std::uint32_t i, std::uint32_t j);
+  /// The group boxes (all clusters' too when `all_clusters`); returns the object box.
+  static Aabb refit_groups(ObjectClusters& c, const CollisionObject& object, bool simd, bool all_clusters);
+  /// The boxes of group g's clusters, once per frame.
+  static void refit_group_clusters(ObjectClusters& c, const CollisionObject& object, std::size_t g, bool simd);
+  void cluster_cascade(std::span<const CollisionObject> objects, std::uint32_t i, std::uint32_t j);
   /// The primitive's first and last cells per axis (lo, hi) for cells of edge 1 / inv_h.
   static void cell_range(Primitive& prim, Real inv_h);
   void expand_region(std::uint32_t object, std::uint32_t cluster, const Aabb& box);
   void emit_cell_pairs(std::span<const Entry> cell, std::span<const CollisionObject> objects,
                        std::vector<CandidatePair>& out);
+  /// The cluster-pair path: the candidates of every overlapping cluster pair by direct box tests.
+  void emit_cluster_pairs(std::span<const CollisionObject> objects, std::vector<CandidatePair>& out,
+                          std::uint32_t opened);
 
   OhcSettings settings_;
   OhcStats stats_;
@@ -170,15 +208,29 @@ class OhcBroadPhase final : public BroadPhase {
   std::vector<Aabb> regions_;          // per object: bounding box of its overlaps
   std::vector<std::uint8_t> tested_;   // objects² flags: pair tested and boxes overlap
   std::vector<ObjectClusters> clusters_;  // per object
-  std::vector<Primitive> primitives_;
+  /// A triangle that passed the cascade this frame: its object and its index there.
+  struct OpenedId {
+    std::uint32_t object;
+    std::uint32_t triangle;
+  };
+  // The triangles that passed the cascade this frame, in cluster order: their clipped boxes as
+  // six arrays of opened_stride_ (min x, y, z, max x, y, z), their extents along six more
+  // directions (ohc_kernels.h: six arrays of lower, six of upper ends) and their ids.
+  std::vector<Real> opened_boxes_;
+  std::vector<OpenedId> opened_ids_;
+  std::size_t opened_stride_ = 0;
+  std::vector<Primitive> primitives_;  // the cell hash's copy of them, with cell ranges
+  std::vector<CandidatePair> pair_scratch_;  // emit_cluster_pairs' AVX-512 output (grows only)
   std::vector<Real> margins_;          // per object: bound on its triangles' box margins
   std::vector<SweepItem> sweep_;       // cluster_cascade scratch (reserved for all clusters)
+  std::vector<ClusterPair> cluster_pair_list_;  // this frame's overlapping cluster pairs
+  bool sweeps_complete_ = true;        // no sweep hit its step budget this frame
   std::vector<std::uint32_t> slot_start_;  // table_size + 1 (counting sort)
   std::vector<Entry> entries_;
   std::vector<Entry> staged_;              // entries in primitive order, before the counting sort
   std::vector<std::uint32_t> staged_slots_;  // their slots
   std::vector<std::uint8_t> cell_starts_;  // emit_cell_pairs scratch (≥ entries_.size())
-  std::vector<std::uint32_t> cell_hits_;   // emit_cell_pairs scratch (≥ entries_.size() + 4)
+  std::vector<std::uint32_t> cell_hits_;   // box test hits scratch (≥ entries or primitives + 8)
   std::vector<std::uint32_t> cell_groups_;  // emit_cell_pairs scratch (≥ entries_.size() + 1)
   std::vector<Real> cell_boxes_;           // emit_cell_pairs scratch: 6 arrays of cell_stride_
   std::size_t cell_stride_ = 0;            // ≥ entries_.size() + 4

@@ -10,5 +10,8 @@ namespace trocar {
 bool cpu_has_avx2();
 /// The CPU has AVX2 and FMA, and TROCAR_SIMD is not "off".
 bool cpu_has_avx2_fma();
+/// The CPU has AVX-512 F, VL and DQ (512-bit vectors, mask registers, compress) besides AVX2 and
+/// FMA, and TROCAR_SIMD is not "off".
+bool cpu_has_avx512();
 
 }  // namespace trocar
