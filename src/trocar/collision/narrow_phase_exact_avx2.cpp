@@ -11,8 +11,14 @@
 #include <immintrin.h>
 
 // Everything below (and only that: the library headers are in above) is compiled for AVX2.
+// GCC takes the target for the region by pragma; clang ignores that pragma and takes an
+// attribute applied to every function defined in the region instead.
+#if defined(__clang__)
+#pragma clang attribute push(__attribute__((target("avx2"))), apply_to = function)
+#else
 #pragma GCC push_options
 #pragma GCC target("avx2")
+#endif
 #include "trocar/collision/narrow_phase_exact.h"
 
 namespace trocar::narrow_detail {
@@ -65,7 +71,11 @@ int exact4_avx2(const Vec3* const (&c)[4][6], TriTriResult (&r)[4]) {
 }
 
 }  // namespace trocar::narrow_detail
+#if defined(__clang__)
+#pragma clang attribute pop
+#else
 #pragma GCC pop_options
+#endif
 
 #else
 

@@ -15,7 +15,9 @@
 // GCC 12's AVX-512 headers pass _mm512_undefined_pd() (deliberately uninitialised) to the
 // builtins of _mm512_insertf64x4 and friends, which -Wuninitialized reports once inlined here.
 #pragma GCC diagnostic ignored "-Wuninitialized"
+#if !defined(__clang__)  // a GCC-only warning
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
 #endif
 
 namespace trocar::ohc_detail {

@@ -14,7 +14,6 @@
 namespace trocar {
 namespace {
 
-constexpr auto kMaxIndex = static_cast<std::int64_t>(std::numeric_limits<std::uint32_t>::max());
 
 /// "mesh", "scale", "translate", "rotate_deg", "repair" of any object: the mesh with
 /// x ↦ translate + R·(scale·x) applied (DESIGN.md §5 placement).
