@@ -8,7 +8,7 @@
 /// formula; divisions, not reciprocals), and the including file is compiled without contraction
 /// (no FMA may be formed): IEEE arithmetic is then the same in a lane as in a scalar register.
 /// Branches become blends (all sides are computed; the unused ones may be inf or NaN and are
-/// dropped). S is the vector width's traits (narrow_phase_exact_avx2.cpp, _avx512.cpp), and this
+/// dropped). S is the vector width's table (narrow_phase_lanes_avx2.h, _avx512.h), and this
 /// header is included after their target pragma, so everything here is compiled for it;
 /// exact_batch_test.cpp checks the results against intersect_triangles bit for bit.
 #include <limits>
@@ -107,16 +107,25 @@ struct Exact {
     return {select(c1, c0, edge0), select(c1, c2, edge2)};
   }
 
+  // Corner k (a0, a1, a2, b0, b1, b2) of every pair.
+  static V3 corner(const Vec3* const (*c)[6], int k) {
+    const double* q[S::kLanes];
+    for (int l = 0; l < S::kLanes; ++l) q[l] = c[l][k]->data();
+    V3 v;
+    S::load(q, v.x, v.y, v.z);
+    return v;
+  }
+
   // c[k]: a0, a1, a2, b0, b1, b2 of pair k; returns the mask of the lanes answered in r.
   static unsigned run(const Vec3* const (*c)[6], TriTriResult* r) {
-    const V3 o = S::load(c, 0);
+    const V3 o = corner(c, 0);
     const V zero = S::zero();
     const V3 v0 = {zero, zero, zero};  // a0 − a0 is taken as exactly zero, as in the scalar code
-    const V3 v1 = sub(S::load(c, 1), o);
-    const V3 v2 = sub(S::load(c, 2), o);
-    const V3 v3 = sub(S::load(c, 3), o);
-    const V3 v4 = sub(S::load(c, 4), o);
-    const V3 v5 = sub(S::load(c, 5), o);
+    const V3 v1 = sub(corner(c, 1), o);
+    const V3 v2 = sub(corner(c, 2), o);
+    const V3 v3 = sub(corner(c, 3), o);
+    const V3 v4 = sub(corner(c, 4), o);
+    const V3 v5 = sub(corner(c, 5), o);
     // Finite (the scalar code returns early otherwise: left to it) and the pair's size L.
     const V inf = S::set1(std::numeric_limits<double>::infinity());
     M finite = S::lt(zero, inf);  // all lanes
