@@ -126,7 +126,8 @@ struct HoldResult {
   std::vector<Real> force;
   Real speed = 0;
 };
-HoldResult hold_probe(ResponseMethod method, bool depth_cap, Real correction_speed = ResponseSettings{}.correction_speed) {
+HoldResult hold_probe(ResponseMethod method, bool depth_cap,
+                      Real correction_speed = ResponseSettings{}.correction_speed) {
   Scene scene = test::probe_scene(0.035, 0.028, 0.05);
   scene.settings.response.method = method;
   scene.settings.response.depth_cap = depth_cap;

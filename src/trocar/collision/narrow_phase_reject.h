@@ -79,7 +79,8 @@ struct Reject {
     // Edge from corner i (projection pi, distance di) to corner j.
     void edge(V pi, V pj, V di, V dj, V tau) {
       const V neg_tau = S::sub(S::zero(), tau);
-      const M outside = S::or_(S::and_(S::gt(di, tau), S::gt(dj, tau)), S::and_(S::gt(neg_tau, di), S::gt(neg_tau, dj)));
+      const M outside =
+          S::or_(S::and_(S::gt(di, tau), S::gt(dj, tau)), S::and_(S::gt(neg_tau, di), S::gt(neg_tau, dj)));
       const V dd = S::sub(dj, di);
       const M steep = S::gt(S::abs(dd), tau);
       // d(λ) = di + λ·dd ∈ [−tau, tau] for λ between a and b (only where the edge is steep).

@@ -14,7 +14,6 @@
 namespace trocar {
 namespace {
 
-
 /// "mesh", "scale", "translate", "rotate_deg", "repair" of any object: the mesh with
 /// x ↦ translate + R·(scale·x) applied (DESIGN.md §5 placement).
 TriMesh placed_mesh(const JsonReader& obj, const std::filesystem::path& dir) {

@@ -41,7 +41,8 @@ Real Simulation::sheet_side(const InstrumentBody& body, std::size_t i, std::size
     const bool start_border = at_start.triangle >= triangles.size() ||
                               border.on_boundary(at_start.triangle, triangles[at_start.triangle], at_start.feature,
                                                  at_start.feature_index);
-    if (!start_border && at_start.distance != 0 && (at_start.distance > 0) == side) ++metrics_.tunneling_events;  // (a)
+    if (!start_border && at_start.distance != 0 && (at_start.distance > 0) == side)
+      ++metrics_.tunneling_events;  // (a)
   }
   if (through != 0) {
     const Real depth = std::abs(r.distance);
