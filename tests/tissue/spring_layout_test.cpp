@@ -71,6 +71,28 @@ TEST(SpringLayout, EverySpringOnceAndStarsShareTheirFirstVertex) {
   EXPECT_LE(layout.others.size() * 4, s.springs.size() / 5 + 3);
 }
 
+TEST(SpringLayout, SpringsBetweenTwoFixedVerticesAreLeftOut) {
+  const MassSpringSettings s = sphere_settings();
+  std::vector<std::uint8_t> fixed(s.vertex_count(), 0);
+  for (std::size_t i = 0; i < s.vertex_count(); ++i) fixed[i] = s.rest_positions[i].z() < -0.015 ? 1 : 0;
+  std::size_t both = 0, one = 0;
+  for (const Spring& sp : s.springs) {
+    both += fixed[sp.i] && fixed[sp.j];
+    one += fixed[sp.i] != fixed[sp.j];
+  }
+  ASSERT_GT(both, 10u);
+  ASSERT_GT(one, 10u);
+  const tissue_detail::SpringLayout layout = tissue_detail::make_spring_layout(s.springs, s.vertex_count(), &fixed);
+  std::vector<SpringQuad> all = layout.stars;
+  all.insert(all.end(), layout.others.begin(), layout.others.end());
+  const auto count = lanes_by_pair(all, s);
+  EXPECT_EQ(count.size(), s.springs.size() - both);
+  for (const auto& [pair, n] : count) {
+    EXPECT_EQ(n, 1);
+    EXPECT_FALSE(fixed[pair.first] && fixed[pair.second]) << pair.first << "-" << pair.second;
+  }
+}
+
 TEST(SpringLayout, PlainQuadsKeepTheOrderAndPadTheLastQuad) {
   const MassSpringSettings s = sphere_settings();
   const std::vector<SpringQuad> quads = tissue_detail::make_spring_quads(s.springs);

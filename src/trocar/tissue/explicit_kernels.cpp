@@ -45,26 +45,6 @@ inline void spring_scalar(const SpringQuad& q, int k, const Padded3* x, const Pa
   fj.z -= sigma * dz;
 }
 
-Real volume_gradient_scalar(const Triangle* tris, std::size_t nt, const Padded3* x, Padded3* g) {
-  const Padded3 origin = x[tris[0][0]];
-  Real six_v = 0;
-  for (std::size_t t = 0; t < nt; ++t) {
-    const Triangle& tri = tris[t];
-    const Padded3 &a = x[tri[0]], &b = x[tri[1]], &c = x[tri[2]];
-    const Real e0 = b.x - a.x, e1 = b.y - a.y, e2 = b.z - a.z;
-    const Real f0 = c.x - a.x, f1 = c.y - a.y, f2 = c.z - a.z;
-    const Real n0 = e1 * f2 - e2 * f1, n1 = e2 * f0 - e0 * f2, n2 = e0 * f1 - e1 * f0;
-    six_v += (a.x - origin.x) * n0 + (a.y - origin.y) * n1 + (a.z - origin.z) * n2;
-    for (int k = 0; k < 3; ++k) {
-      Padded3& gk = g[tri[k]];
-      gk.x += n0;
-      gk.y += n1;
-      gk.z += n2;
-    }
-  }
-  return six_v;
-}
-
 /// Lane k's energy ½ k (|d| − l)², scalar.
 inline Real spring_energy_scalar(const SpringQuad& q, int k, const Padded3* x) {
   const Padded3 &xi = x[q.i[k] / sizeof(Padded3)], &xj = x[q.j[k] / sizeof(Padded3)];
@@ -140,24 +120,6 @@ TROCAR_AVX2 void spring_forces_avx2(const SpringQuad* quads, std::size_t count, 
     }
     if constexpr (kStar) add_at(f, s.i[0], sum);
   }
-}
-
-TROCAR_AVX2 Real volume_gradient_avx2(const Triangle* tris, std::size_t nt, const Padded3* x, Padded3* g) {
-  const __m256d origin = load(x[tris[0][0]]);
-  __m256d six_v = _mm256_setzero_pd();
-  for (std::size_t t = 0; t < nt; ++t) {
-    // Indices into locals: the stores below may alias anything, so the compiler would reload them.
-    const std::uint32_t ia = tris[t][0], ib = tris[t][1], ic = tris[t][2];
-    const __m256d a = load(x[ia]);
-    const __m256d n = cross(_mm256_sub_pd(load(x[ib]), a), _mm256_sub_pd(load(x[ic]), a));
-    six_v = _mm256_fmadd_pd(_mm256_sub_pd(a, origin), n, six_v);
-    store(g[ia], _mm256_add_pd(load(g[ia]), n));
-    store(g[ib], _mm256_add_pd(load(g[ib]), n));
-    store(g[ic], _mm256_add_pd(load(g[ic]), n));
-  }
-  alignas(32) Real lanes[4];
-  _mm256_store_pd(lanes, six_v);
-  return lanes[0] + lanes[1] + lanes[2];
 }
 
 /// Σ ½ k (|d| − l)² for four springs at a time: d transposed into x, y, z rows, |d| by vsqrtpd.
@@ -264,7 +226,13 @@ std::vector<SpringQuad> make_spring_quads(const std::vector<Spring>& springs) {
   return quads;
 }
 
-SpringLayout make_spring_layout(const std::vector<Spring>& springs, std::size_t vertex_count) {
+SpringLayout make_spring_layout(const std::vector<Spring>& all_springs, std::size_t vertex_count,
+                                const std::vector<std::uint8_t>* fixed) {
+  std::vector<Spring> moving;
+  if (fixed != nullptr)
+    for (const Spring& sp : all_springs)
+      if (!((*fixed)[sp.i] && (*fixed)[sp.j])) moving.push_back(sp);
+  const std::vector<Spring>& springs = fixed != nullptr ? moving : all_springs;
   check_offsets(springs);
   // Greedy: each vertex in turn takes its not yet placed springs four at a time (a spring's force
   // is symmetric in its ends, so it may be flipped to start at the shared vertex); whatever is
@@ -324,15 +292,6 @@ void add_spring_forces(const SpringLayout& layout, const Padded3* x, const Padde
   for (const std::vector<SpringQuad>* quads : {&layout.stars, &layout.others})
     for (const SpringQuad& q : *quads)
       for (int k = 0; k < 4; ++k) spring_scalar(q, k, x, v, f);
-}
-
-Real add_volume_gradient(const MassSpringSettings& s, const Padded3* x, Padded3* g, bool use_avx2) {
-  if (s.triangles.empty()) return 0;
-#ifdef TROCAR_HAVE_X86
-  if (use_avx2) return volume_gradient_avx2(s.triangles.data(), s.triangles.size(), x, g);
-#endif
-  (void)use_avx2;
-  return volume_gradient_scalar(s.triangles.data(), s.triangles.size(), x, g);
 }
 
 Real spring_energy_padded(const SpringLayout& layout, const Padded3* x, bool use_avx2) {

@@ -168,7 +168,9 @@ TROCAR_AVX2 void apply_springs(const std::vector<CgSpringQuad>& cache, const Pad
 #endif  // TROCAR_HAVE_X86
 
 ImplicitAvx2::ImplicitAvx2(const MassSpringSettings& settings)
-    : settings_(settings), springs_(make_spring_layout(settings.springs, settings.vertex_count())) {
+    : settings_(settings),
+      springs_(make_spring_layout(settings.springs, settings.vertex_count(), &settings.fixed)),
+      triangles_(make_volume_layout(settings.triangles, settings.vertex_count())) {
   const std::size_t n = settings.vertex_count();
   for (auto [quads, cache] : {std::pair{&springs_.stars, &cache_stars_}, std::pair{&springs_.others, &cache_others_}}) {
     cache->resize(quads->size());
@@ -233,7 +235,7 @@ TROCAR_AVX2 void ImplicitAvx2::linearise(const TissueLoads& loads, Real h, const
   const bool volume = volume_term_on(s, terms);
   if (volume) {
     std::fill(gradient_.begin(), gradient_.end(), Padded3{});
-    six_volume_ = add_volume_gradient(s, x_.data(), gradient_.data(), true);
+    six_volume_ = add_volume_gradient(triangles_, x_.data(), gradient_.data(), true);
     const __m256d sixth = _mm256_set1_pd(1.0 / 6.0);
     __m256d slope = _mm256_setzero_pd();
     for (std::size_t i = 0; i < n; ++i) {

@@ -13,6 +13,7 @@
 #include "trocar/tissue/forces.h"
 #include "trocar/tissue/settings.h"
 #include "trocar/tissue/state.h"
+#include "trocar/tissue/volume_fans.h"
 
 namespace trocar {
 struct ImplicitOptions;
@@ -57,6 +58,7 @@ class ImplicitAvx2 {
 
   const MassSpringSettings& settings_;
   SpringLayout springs_;                       ///< the springs' parameters, four by four
+  VolumeLayout triangles_;                     ///< the triangles in fans (the volume term)
   std::vector<CgSpringQuad> cache_stars_, cache_others_;  ///< this step's spring blocks
   PaddedArrays arrays_;  ///< storage of the spans below, staggered against 4K aliasing
   std::span<Padded3> x_, v_, rest_, f_, dv_, r_, p_, z_, q_, gradient_;

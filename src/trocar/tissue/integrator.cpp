@@ -47,7 +47,8 @@ MassSpringIntegrator::MassSpringIntegrator(const MassSpringSettings& settings, I
     padded_velocities_ = padded_[3];
     padded_rest_ = padded_[4];
     tissue_detail::copy_padded(settings.rest_positions.data(), n, padded_rest_.data());
-    spring_layout_ = tissue_detail::make_spring_layout(settings.springs, n);
+    spring_layout_ = tissue_detail::make_spring_layout(settings.springs, n, &settings.fixed);
+    volume_layout_ = tissue_detail::make_volume_layout(settings.triangles, n);
     return;
   }
 
@@ -119,7 +120,7 @@ StepStats MassSpringIntegrator::step_explicit(MassSpringState& state, const Tiss
   // Volume: 6V = Σ (a − o)·n_t about o = the first triangle's first vertex (as forces.cpp), and
   // 6 ∂V/∂x_i = Σ_{t∋i} n_t; the pressure force is −κ_V (V − V0) ∂V/∂x_i.
   if (terms_.volume && s.closed && s.k_volume > 0 && s.rest_volume > 0 && !s.triangles.empty()) {
-    const Real six_v = add_volume_gradient(s, padded_positions_.data(), padded_volume_gradient_.data(), use_avx2_);
+    const Real six_v = add_volume_gradient(volume_layout_, padded_positions_.data(), padded_volume_gradient_.data(), use_avx2_);
     in.gradient = padded_volume_gradient_.data();
     in.pressure6 = -s.k_volume / s.rest_volume * (six_v / 6.0 - s.rest_volume) / 6.0;
   }

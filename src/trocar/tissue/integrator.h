@@ -107,6 +107,7 @@ class MassSpringIntegrator {
   std::span<tissue_detail::Padded3> padded_positions_, padded_velocities_;  ///< copies of the state
   std::span<tissue_detail::Padded3> padded_rest_;  ///< the rest positions
   tissue_detail::SpringLayout spring_layout_;  ///< the springs, four by four
+  tissue_detail::VolumeLayout volume_layout_;  ///< the triangles in fans (volume term)
   /// Implicit: the AVX2 solver (where the CPU has AVX2+FMA), used unless the area term is on.
   std::unique_ptr<tissue_detail::ImplicitAvx2> implicit_avx2_;
   bool use_avx2_ = false;  ///< the CPU has AVX2 + FMA (explicit_kernels.h)
