@@ -46,6 +46,11 @@ void BM_ProbeLiverStep(benchmark::State& state) {
   // The step's own wall time (the rest of step_us beyond the stages is bookkeeping).
   state.counters["step_us"] = mean(sum.step);
   state.counters["contacts"] = mean(static_cast<double>(contacts));
+  // The last detection's OHC counts (docs/scene.md, "Cost"): what the broad phase had to test.
+  if (const OhcStats* ohc = sim.detector().ohc_stats()) {
+    state.counters["cluster_pairs"] = ohc->cluster_pairs;
+    state.counters["candidates"] = static_cast<double>(ohc->candidate_pairs);
+  }
   state.counters["cg_iterations"] = mean(static_cast<double>(cg_iterations));
 }
 BENCHMARK(BM_ProbeLiverStep)->Arg(1)->Arg(0)->Unit(benchmark::kMicrosecond)->Iterations(2000)->Repetitions(5)

@@ -112,6 +112,8 @@ class Simulation {
   /// FNV-1a 64-bit hash of the bits of every tissue's positions and velocities and every
   /// instrument's pose (rotation coefficients, translation) and jaw.
   std::uint64_t state_hash() const;
+  /// The collision detector (its timings and, for OHC, the last detection's counts).
+  const CollisionDetector& detector() const { return detector_; }
 
  private:
   void detect();
