@@ -120,7 +120,8 @@ StepStats MassSpringIntegrator::step_explicit(MassSpringState& state, const Tiss
   // Volume: 6V = Σ (a − o)·n_t about o = the first triangle's first vertex (as forces.cpp), and
   // 6 ∂V/∂x_i = Σ_{t∋i} n_t; the pressure force is −κ_V (V − V0) ∂V/∂x_i.
   if (terms_.volume && s.closed && s.k_volume > 0 && s.rest_volume > 0 && !s.triangles.empty()) {
-    const Real six_v = add_volume_gradient(volume_layout_, padded_positions_.data(), padded_volume_gradient_.data(), use_avx2_);
+    const Real six_v =
+        add_volume_gradient(volume_layout_, padded_positions_.data(), padded_volume_gradient_.data(), use_avx2_);
     in.gradient = padded_volume_gradient_.data();
     in.pressure6 = -s.k_volume / s.rest_volume * (six_v / 6.0 - s.rest_volume) / 6.0;
   }
