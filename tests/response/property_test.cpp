@@ -101,7 +101,7 @@ TEST(ResponseProperties, RandomPairs) {
     ASSERT_LE(r.force.dot(n_out), 0.0);
     ASSERT_TRUE(r.force.allFinite());
     // The instrument's force is exactly opposite the tissue's total, with torque (P − o) × (−F).
-    const Vec3 tissue_total = loads.forces[0] + loads.forces[1] + loads.forces[2];
+    const Vec3 tissue_total = loads.forces()[0] + loads.forces()[1] + loads.forces()[2];
     ASSERT_LE((load.raw_force + tissue_total).norm(), 1e-12 * r.force.norm() + 1e-300);
     ASSERT_LE((load.raw_torque - r.point.cross(load.raw_force)).norm(),
               1e-12 * r.force.norm() * (r.point.norm() + 1) + 1e-300);

@@ -82,7 +82,7 @@ TEST(ResponseSolver, ForcesSumOppositeToInstrumentAndJacobians) {
     with_force += r.force.squaredNorm() > 0;
   }
   Vec3 tissue_total = Vec3::Zero();
-  for (const Vec3& x : f.loads.forces) tissue_total += x;
+  for (const Vec3& x : f.loads.forces()) tissue_total += x;
   EXPECT_LT((tissue_total - sum_f).norm(), 1e-9 * sum_f.norm());
   EXPECT_LT((f.load.raw_force + tissue_total).norm(), 1e-9 * sum_f.norm());
   EXPECT_LT((f.load.raw_torque - sum_t).norm(), 1e-9 * sum_t.norm() + 1e-15);
@@ -113,7 +113,7 @@ TEST(ResponseSolver, GraspedVerticesFollowTheInstrument) {
   const ResponseStats st = solver.apply(contacts, 0, 1, f.tool, f.view(), f.loads, f.load);
   EXPECT_EQ(st.count(ContactStatus::kGrasped), contacts.size());
   EXPECT_EQ(st.count(ContactStatus::kApplied), 0u);
-  for (const Vec3& x : f.loads.forces) EXPECT_EQ(x, Vec3::Zero());  // no penalty for held tissue
+  for (const Vec3& x : f.loads.forces()) EXPECT_EQ(x, Vec3::Zero());  // no penalty for held tissue
   EXPECT_EQ(f.load.raw_force, Vec3::Zero());
   const auto held = solver.grasp().held();
   ASSERT_GT(held.size(), 3u);

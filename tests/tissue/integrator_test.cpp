@@ -101,7 +101,7 @@ void check_backward_euler_system(bool area, bool simd) {
   for (std::uint32_t t = 0; t < 6; ++t) {
     const Triangle& tri = s.triangles[t * 7];
     loads.contacts.push_back({{tri[0], tri[1], tri[2]}, {0.5, 0.3, 0.2}, Vec3(0.6, 0, 0.8), 400, 0.02});
-    loads.forces[tri[1]] += Vec3(0.1, 0.2, -0.3);
+    loads.add_force(tri[1], Vec3(0.1, 0.2, -0.3));
   }
   ImplicitOptions options;
   options.cg_tolerance = 1e-13;
@@ -117,7 +117,7 @@ void check_backward_euler_system(bool area, bool simd) {
             << ", h = 2 ms, tolerance 1e-13: CG " << stats.cg_iterations << " iterations\n";
 
   const std::size_t n = s.vertex_count();
-  std::vector<Vec3> dv(n), f(loads.forces), kv(n, Vec3::Zero()), adv(n, Vec3::Zero()), kdv(n, Vec3::Zero());
+  std::vector<Vec3> dv(n), f(loads.forces().begin(), loads.forces().end()), kv(n, Vec3::Zero()), adv(n, Vec3::Zero()), kdv(n, Vec3::Zero());
   for (std::size_t i = 0; i < n; ++i) dv[i] = st1.velocities[i] - st0.velocities[i];
   accumulate_forces(s, st0.positions, st0.velocities, f);
   add_stiffness_product(s, st0.positions, st0.velocities, kv);
@@ -183,14 +183,14 @@ TEST(Integrator, ExplicitStepsMatchAccumulateForces) {
     if (!s.fixed[i]) start.velocities[i] = 0.05 * Vec3(u(rng), u(rng), u(rng));
   TissueLoads loads;
   loads.reset(s.vertex_count());
-  for (std::size_t i = 0; i < s.vertex_count(); i += 7) loads.forces[i] = Vec3(0.01, -0.02, 0.005);
+  for (std::size_t i = 0; i < s.vertex_count(); i += 7) loads.add_force(static_cast<std::uint32_t>(i), Vec3(0.01, -0.02, 0.005));
 
   std::vector<Vec3> f(s.vertex_count(), Vec3::Zero());
   accumulate_forces(s, start.positions, start.velocities, f);
   const Real h = 1e-4;
   Real largest_speed_change = 0;
   for (std::size_t i = 0; i < f.size(); ++i)
-    if (!s.fixed[i]) largest_speed_change = std::max(largest_speed_change, (h * s.inverse_masses[i] * (f[i] + loads.forces[i])).norm());
+    if (!s.fixed[i]) largest_speed_change = std::max(largest_speed_change, (h * s.inverse_masses[i] * (f[i] + loads.forces()[i])).norm());
   ASSERT_GT(largest_speed_change, 1e-4);  // the forces are not negligible
 
   for (IntegratorKind kind : {IntegratorKind::kExplicitEuler, IntegratorKind::kSemiImplicitEuler})
@@ -205,7 +205,7 @@ TEST(Integrator, ExplicitStepsMatchAccumulateForces) {
       Real worst_v = 0, worst_x = 0;
       for (std::size_t i = 0; i < f.size(); ++i) {
         const Vec3 v0 = start.velocities[i], x0 = start.positions[i];
-        const Vec3 v1 = s.fixed[i] ? Vec3::Zero() : Vec3(v0 + h * s.inverse_masses[i] * (f[i] + loads.forces[i]));
+        const Vec3 v1 = s.fixed[i] ? Vec3::Zero() : Vec3(v0 + h * s.inverse_masses[i] * (f[i] + loads.forces()[i]));
         const Vec3 x1 = s.fixed[i] ? x0 : Vec3(x0 + h * (kind == IntegratorKind::kSemiImplicitEuler ? v1 : v0));
         worst_v = std::max(worst_v, (st.velocities[i] - v1).norm());
         worst_x = std::max(worst_x, (st.positions[i] - x1).norm());
@@ -304,8 +304,8 @@ TEST(Integrator, SqueezedClosedOrganKeepsVolumeWithVolumeTerm) {
     for (const Vec3& x : s.rest_positions) top += x.z() > z_hi, bottom += x.z() < z_lo;
     for (std::size_t i = 0; i < s.vertex_count(); ++i) {
       const Real z = s.rest_positions[i].z();
-      if (z > z_hi) loads.forces[i] = Vec3(0, 0, -0.3 / static_cast<Real>(top));
-      if (z < z_lo) loads.forces[i] = Vec3(0, 0, 0.3 / static_cast<Real>(bottom));
+      if (z > z_hi) loads.add_force(static_cast<std::uint32_t>(i), Vec3(0, 0, -0.3 / static_cast<Real>(top)));
+      if (z < z_lo) loads.add_force(static_cast<std::uint32_t>(i), Vec3(0, 0, 0.3 / static_cast<Real>(bottom)));
     }
     MassSpringIntegrator integ(s, IntegratorKind::kImplicitEuler);
     long iterations = 0;
@@ -353,10 +353,10 @@ TEST(Integrator, FixedVerticesStayFixedBitForBit) {
     loads.reset(s.vertex_count());
     for (int n = 0; n < 2000; ++n) {
       loads.clear();
-      for (std::uint32_t i : fixed_ids) loads.forces[i] = Vec3(0.3, -0.2, 0.1);
+      for (std::uint32_t i : fixed_ids) loads.add_force(i, Vec3(0.3, -0.2, 0.1));
       const std::uint32_t a = fixed_ids[3], b = a + 11, c = a + 1;  // a fixed and two free
       loads.contacts.push_back({{a, b, c}, {0.4, 0.3, 0.3}, Vec3(0, 0, 1), 50, 0.01});
-      loads.forces[b].z() += 0.01;
+      loads.add_force(b, Vec3(0, 0, 0.01));
       ASSERT_TRUE(integ.step(st, loads, 1e-4).finite) << integrator_name(kind);
     }
     const Vec3 zero = Vec3::Zero();
@@ -464,7 +464,7 @@ TEST(Integrator, StiffPenaltyContactOnLightVertexStableOnlyImplicitly) {
       const Real depth = p.z() - z_c;
       if (depth > 0) {
         const Real magnitude = std::max(Real{0}, k * depth + mu * pv.z());
-        for (int a = 0; a < 3; ++a) loads.forces[tri[a]] += w[a] * magnitude * n;
+        for (int a = 0; a < 3; ++a) loads.add_force(tri[a], w[a] * magnitude * n);
         loads.contacts.push_back({{tri[0], tri[1], tri[2]}, w, n, k, mu});
       }
       const StepStats stats = integ.step(st, loads, 1e-3);

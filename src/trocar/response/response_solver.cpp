@@ -87,7 +87,7 @@ ResponseStats ResponseSolver::apply(std::span<const Contact> contacts, std::uint
     for (int i = 0; i < 3; ++i) {
       if (grasp_.is_grasped(tb[i])) w[i] = 0;
     }
-    for (int i = 0; i < 3; ++i) loads.forces[tb[i]] += w[i] * r.force;
+    for (int i = 0; i < 3; ++i) loads.add_force(tb[i], w[i] * r.force);
     // Newton's third law on what was applied: −F·Σw at P, torque about the pose origin.
     const Vec3 applied = w.sum() * r.force;
     load.raw_force -= applied;

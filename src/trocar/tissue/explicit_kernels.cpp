@@ -75,7 +75,6 @@ Real update_scalar(const MassSpringSettings& s, Vec3* x, Vec3* v, const UpdateIn
     Padded3& p = in.pair[i];
     Vec3 f(p.x, p.y, p.z);
     p = Padded3{};
-    if (in.external != nullptr) f += in.external[i];
     if (in.gradient != nullptr) {
       Padded3& g = in.gradient[i];
       f += in.pressure6 * Vec3(g.x, g.y, g.z);
@@ -177,7 +176,6 @@ TROCAR_AVX2 Real update_avx2(const MassSpringSettings& s, Vec3* x, Vec3* v, cons
     const __m256d xi = load(in.x[i]), vi = load(in.v[i]);
     __m256d f = load(in.pair[i]);
     store(in.pair[i], zero);
-    if (in.external != nullptr) f = _mm256_add_pd(f, load3(in.external[i]));
     if (in.gradient != nullptr) {
       f = _mm256_fmadd_pd(pressure6, load(in.gradient[i]), f);
       store(in.gradient[i], zero);

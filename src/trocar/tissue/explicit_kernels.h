@@ -79,7 +79,8 @@ Real spring_energy_padded(const SpringLayout& layout, const Padded3* x, bool use
 Real six_volume_padded(const MassSpringSettings& s, const Padded3* x, bool use_avx2);
 
 /// The per-vertex update of one explicit step, with the per-vertex forces folded in:
-///   f = f_pair + f_ext + pressure6 · g + m (gravity − γ v) − k_home (x − x0),
+///   f = f_pair + pressure6 · g + m (gravity − γ v) − k_home (x − x0)
+/// (the external forces are added into f_pair beforehand, at the loaded vertices only),
 ///   v₁ = v + h f / m,  x₁ = x + h (symplectic ? v₁ : v).
 /// Reads and then zeroes `pair` (and `gradient` when not null), so both are zero again for the
 /// next step without a separate clearing pass.
@@ -87,9 +88,8 @@ struct UpdateInputs {
   const Padded3* x = nullptr;       ///< positions at the start of the step (padded copy)
   const Padded3* v = nullptr;       ///< velocities at the start of the step (padded copy)
   const Padded3* rest = nullptr;    ///< rest positions x0 (padded)
-  Padded3* pair = nullptr;          ///< spring and area forces (zeroed on return)
+  Padded3* pair = nullptr;          ///< spring, area and external forces (zeroed on return)
   Padded3* gradient = nullptr;      ///< Σ n_t per vertex, or null (zeroed on return)
-  const Vec3* external = nullptr;   ///< external forces, or null
   Real pressure6 = 0;               ///< −κ_V (V − V0)/6
   Vec3 gravity = Vec3::Zero();
   Real gamma = 0;                   ///< global damping γ (1/s)

@@ -206,12 +206,9 @@ TROCAR_AVX2 void ImplicitAvx2::linearise(const TissueLoads& loads, Real h, const
     const __m256d g = terms.gravity ? vec3(s.gravity) : _mm256_setzero_pd();
     const __m256d gamma_v = _mm256_set1_pd(gamma), k_home_v = _mm256_set1_pd(k_home), h_v = _mm256_set1_pd(h);
     const __m256d xyz = _mm256_setr_pd(1, 1, 1, 0);
-    const bool external = loads.forces.size() == n;
     for (std::size_t i = 0; i < n; ++i) {
       const __m256d vi = load(v_[i]);
-      __m256d fi = external ? _mm256_setr_pd(loads.forces[i][0], loads.forces[i][1], loads.forces[i][2], 0)
-                            : _mm256_setzero_pd();
-      fi = _mm256_fmadd_pd(_mm256_set1_pd(s.masses[i]), _mm256_fnmadd_pd(gamma_v, vi, g), fi);
+      __m256d fi = _mm256_mul_pd(_mm256_set1_pd(s.masses[i]), _mm256_fnmadd_pd(gamma_v, vi, g));
       fi = _mm256_fnmadd_pd(k_home_v, _mm256_add_pd(_mm256_sub_pd(load(x_[i]), load(rest_[i])), _mm256_mul_pd(h_v, vi)), fi);
       store(f_[i], fi);
       const Real d = s.masses[i] * (1 + h * gamma) + h * h * k_home;
@@ -219,6 +216,10 @@ TROCAR_AVX2 void ImplicitAvx2::linearise(const TissueLoads& loads, Real h, const
       _mm256_store_pd(preconditioner_[i].diagonal, _mm256_mul_pd(_mm256_set1_pd(d), xyz));
       _mm256_store_pd(preconditioner_[i].off, _mm256_setzero_pd());
     }
+    // f_ext: only at the vertices the step loaded (TissueLoads).
+    const std::span<const Vec3> external = loads.forces();
+    if (external.size() == n)
+      for (const std::uint32_t i : loads.loaded_vertices()) store(f_[i], _mm256_add_pd(load(f_[i]), vec3(external[i])));
   }
 
   // Springs, four at a time: the force σ d (+ h K_s v₀ = h k (c δv + (1 − c)(u·δv) u)), the

@@ -90,9 +90,10 @@ void MassSpringIntegrator::end_step(MassSpringState& state) const {
 /// Semi-implicit (symplectic) Euler:  v₁ = v₀ + h M⁻¹ f(x₀, v₀),  x₁ = x₀ + h v₁.
 /// External forces (and contact penalties) enter f as plain forces; contact Jacobians are
 /// ignored. The forces are accumulate_forces', evaluated in three passes (explicit_kernels.h):
-/// springs and area into a padded force array; the volume term as one triangle pass that sums
-/// V and Σ_{t∋i} n_t per vertex; and the per-vertex terms (external forces, gravity, global
-/// damping, home springs, the volume pressure) inside the update pass. The arithmetic order
+/// springs and area into a padded force array, and the external forces added to it at the
+/// loaded vertices only; the volume term as one triangle pass (in fans) that sums V and
+/// Σ_{t∋i} n_t per vertex; and the per-vertex terms (gravity, global damping, home springs, the
+/// volume pressure) inside the update pass. The arithmetic order
 /// differs from accumulate_forces' (and the AVX2 code uses FMA), so the two agree to rounding.
 StepStats MassSpringIntegrator::step_explicit(MassSpringState& state, const TissueLoads& loads, Real dt,
                                               bool symplectic) {
@@ -116,7 +117,15 @@ StepStats MassSpringIntegrator::step_explicit(MassSpringState& state, const Tiss
   in.v = padded_velocities_.data();
   in.rest = padded_rest_.data();
   in.pair = pair_forces_.data();
-  in.external = loads.forces.size() == n ? loads.forces.data() : nullptr;
+  // External forces: only at the vertices the step loaded (TissueLoads), into the pair forces.
+  const std::span<const Vec3> external = loads.forces();
+  if (external.size() == n)
+    for (const std::uint32_t i : loads.loaded_vertices()) {
+      tissue_detail::Padded3& p = pair_forces_[i];
+      p.x += external[i].x();
+      p.y += external[i].y();
+      p.z += external[i].z();
+    }
   // Volume: 6V = Σ (a − o)·n_t about o = the first triangle's first vertex (as forces.cpp), and
   // 6 ∂V/∂x_i = Σ_{t∋i} n_t; the pressure force is −κ_V (V − V0) ∂V/∂x_i.
   if (terms_.volume && s.closed && s.k_volume > 0 && s.rest_volume > 0 && !s.triangles.empty()) {

@@ -342,8 +342,8 @@ StepStats MassSpringIntegrator::step_implicit(MassSpringState& state, const Tiss
     end_step(state);
     return stats;
   }
-  if (loads.forces.size() == forces_.size())
-    std::copy(loads.forces.begin(), loads.forces.end(), forces_.begin());
+  if (loads.forces().size() == forces_.size())
+    std::copy(loads.forces().begin(), loads.forces().end(), forces_.begin());
   else
     std::fill(forces_.begin(), forces_.end(), Vec3::Zero());
   linearise(state, loads, h);

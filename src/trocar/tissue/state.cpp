@@ -1,5 +1,7 @@
 #include "trocar/tissue/state.h"
 
+#include <cassert>
+
 #include "trocar/tissue/settings.h"
 
 namespace trocar {
@@ -9,14 +11,30 @@ MassSpringState MassSpringState::at_rest(const MassSpringSettings& settings) {
 }
 
 void TissueLoads::reset(std::size_t vertex_count, std::size_t max_contacts) {
-  forces.assign(vertex_count, Vec3::Zero());
+  forces_.assign(vertex_count, Vec3::Zero());
+  is_loaded_.assign(vertex_count, 0);
+  loaded_.clear();
+  loaded_.reserve(vertex_count);
   contacts.clear();
   contacts.reserve(max_contacts);
 }
 
 void TissueLoads::clear() {
-  std::fill(forces.begin(), forces.end(), Vec3::Zero());
+  for (const std::uint32_t v : loaded_) {
+    forces_[v] = Vec3::Zero();
+    is_loaded_[v] = 0;
+  }
+  loaded_.clear();
   contacts.clear();
+}
+
+void TissueLoads::add_force(std::uint32_t vertex, const Vec3& f) {
+  assert(vertex < forces_.size());
+  if (is_loaded_[vertex] == 0) {
+    is_loaded_[vertex] = 1;
+    loaded_.push_back(vertex);
+  }
+  forces_[vertex] += f;
 }
 
 }  // namespace trocar

@@ -2,6 +2,7 @@
 /// Per-instance state of a tissue and the loads the collision response puts on it.
 #include <array>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "trocar/core/types.h"
@@ -31,15 +32,32 @@ struct ContactJacobian {
 };
 
 /// External loads for one step: forces per vertex (the response's penalty forces) and the
-/// contacts' Jacobians. Sized once (reserve) and cleared every step without freeing memory.
-struct TissueLoads {
-  std::vector<Vec3> forces;                 ///< N per vertex (size V)
-  std::vector<ContactJacobian> contacts;    ///< capacity reserved up front
+/// contacts' Jacobians. Sized once (reset) and cleared every step without freeing memory.
+///
+/// Forces are added through add_force, which also records the vertex: a step usually loads a
+/// few dozen of a tissue's thousands of vertices, so clear() zeroes only those and the explicit
+/// integrators add only those (docs/tissue-integrators.md, "The AVX2 passes"); forces() is
+/// still the dense array (zero where nothing was added).
+class TissueLoads {
+ public:
+  std::vector<ContactJacobian> contacts;  ///< capacity reserved up front
 
-  /// Sizes the arrays for `vertex_count` vertices and up to `max_contacts` contacts.
+  /// Sizes the arrays for `vertex_count` vertices and up to `max_contacts` contacts; all zero.
   void reset(std::size_t vertex_count, std::size_t max_contacts = 1024);
-  /// Zeroes the forces and empties the contacts (no deallocation).
+  /// Zeroes the forces added since the last clear and empties the contacts (no deallocation).
   void clear();
+  /// forces()[vertex] += f (N). `vertex` < the size given to reset; never allocates.
+  void add_force(std::uint32_t vertex, const Vec3& f);
+
+  /// N per vertex: size V after reset (empty before: no external forces).
+  std::span<const Vec3> forces() const { return forces_; }
+  /// The vertices given to add_force since the last clear, each once, in the order first added.
+  std::span<const std::uint32_t> loaded_vertices() const { return loaded_; }
+
+ private:
+  std::vector<Vec3> forces_;
+  std::vector<std::uint32_t> loaded_;     ///< capacity V: push_back never reallocates
+  std::vector<std::uint8_t> is_loaded_;   ///< 1 for the vertices in loaded_
 };
 
 }  // namespace trocar
