@@ -36,7 +36,7 @@ struct ContactJacobian {
 ///
 /// Forces are added through add_force, which also records the vertex: a step usually loads a
 /// few dozen of a tissue's thousands of vertices, so clear() zeroes only those and the explicit
-/// integrators add only those (docs/tissue-integrators.md, "Open"); forces() is
+/// integrators add only those (docs/tissue-integrators.md, "The AVX2 passes"); forces() is
 /// still the dense array (zero where nothing was added).
 class TissueLoads {
  public:
