@@ -9,15 +9,11 @@
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>
 
-// Everything below (and only that: the library headers are in above) is compiled for AVX2 and
-// FMA. GCC takes the target for the region by pragma; clang ignores that pragma and takes an
-// attribute applied to every function defined in the region instead.
-#if defined(__clang__)
-#pragma clang attribute push(__attribute__((target("avx2,fma"))), apply_to = function)
-#else
-#pragma GCC push_options
-#pragma GCC target("avx2,fma")
-#endif
+#include "trocar/collision/target_region.h"
+
+// Everything below, and only that (the library headers are in above), is compiled for
+// AVX2 and FMA (target_region.h).
+TROCAR_TARGET_REGION_BEGIN("avx2,fma")
 #include "trocar/collision/narrow_phase_lanes_avx2.h"
 #include "trocar/collision/narrow_phase_reject.h"
 
@@ -27,11 +23,7 @@ int reject4_avx2(const CollisionObject& oa, const CollisionObject& ob, const Can
 }
 
 }  // namespace trocar::narrow_detail
-#if defined(__clang__)
-#pragma clang attribute pop
-#else
-#pragma GCC pop_options
-#endif
+TROCAR_TARGET_REGION_END()
 
 #else
 

@@ -11,15 +11,11 @@
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>
 
-// Everything below (and only that: the library headers are in above) is compiled for AVX-512
-// (with AVX2 and FMA). GCC takes the target for the region by pragma; clang ignores that pragma
-// and takes an attribute applied to every function defined in the region instead.
-#if defined(__clang__)
-#pragma clang attribute push(__attribute__((target("avx512f,avx512vl,avx512dq,avx2,fma"))), apply_to = function)
-#else
-#pragma GCC push_options
-#pragma GCC target("avx512f,avx512vl,avx512dq,avx2,fma")
-#endif
+#include "trocar/collision/target_region.h"
+
+// Everything below, and only that (the library headers are in above), is compiled for
+// AVX-512 (with AVX2 and FMA) (target_region.h).
+TROCAR_TARGET_REGION_BEGIN("avx512f,avx512vl,avx512dq,avx2,fma")
 // GCC 12's own AVX-512 headers pass _mm512_undefined_pd() (deliberately uninitialised) to the
 // builtins of _mm512_insertf64x4 and friends, which -Wuninitialized reports once inlined here.
 #pragma GCC diagnostic ignored "-Wuninitialized"
@@ -35,11 +31,7 @@ int reject8_avx512(const CollisionObject& oa, const CollisionObject& ob, const C
 }
 
 }  // namespace trocar::narrow_detail
-#if defined(__clang__)
-#pragma clang attribute pop
-#else
-#pragma GCC pop_options
-#endif
+TROCAR_TARGET_REGION_END()
 
 #else
 

@@ -10,15 +10,11 @@
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>
 
-// Everything below (and only that: the library headers are in above) is compiled for AVX2.
-// GCC takes the target for the region by pragma; clang ignores that pragma and takes an
-// attribute applied to every function defined in the region instead.
-#if defined(__clang__)
-#pragma clang attribute push(__attribute__((target("avx2"))), apply_to = function)
-#else
-#pragma GCC push_options
-#pragma GCC target("avx2")
-#endif
+#include "trocar/collision/target_region.h"
+
+// Everything below, and only that (the library headers are in above), is compiled for
+// AVX2 (target_region.h).
+TROCAR_TARGET_REGION_BEGIN("avx2")
 #include "trocar/collision/narrow_phase_exact.h"
 #include "trocar/collision/narrow_phase_lanes_avx2.h"
 
@@ -28,11 +24,7 @@ int exact4_avx2(const Vec3* const (&c)[4][6], TriTriResult (&r)[4]) {
 }
 
 }  // namespace trocar::narrow_detail
-#if defined(__clang__)
-#pragma clang attribute pop
-#else
-#pragma GCC pop_options
-#endif
+TROCAR_TARGET_REGION_END()
 
 #else
 

@@ -10,15 +10,11 @@
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>
 
-// Everything below (and only that: the library headers are in above) is compiled for AVX-512.
-// GCC takes the target for the region by pragma; clang ignores that pragma and takes an
-// attribute applied to every function defined in the region instead.
-#if defined(__clang__)
-#pragma clang attribute push(__attribute__((target("avx512f,avx512vl,avx512dq"))), apply_to = function)
-#else
-#pragma GCC push_options
-#pragma GCC target("avx512f,avx512vl,avx512dq")
-#endif
+#include "trocar/collision/target_region.h"
+
+// Everything below, and only that (the library headers are in above), is compiled for
+// AVX-512 (target_region.h).
+TROCAR_TARGET_REGION_BEGIN("avx512f,avx512vl,avx512dq")
 // GCC 12's AVX-512 headers pass _mm512_undefined_pd() (deliberately uninitialised) to the
 // builtins of _mm512_insertf64x4 and friends, which -Wuninitialized reports once inlined here.
 #pragma GCC diagnostic ignored "-Wuninitialized"
@@ -34,11 +30,7 @@ int exact8_avx512(const Vec3* const (&c)[8][6], TriTriResult (&r)[8]) {
 }
 
 }  // namespace trocar::narrow_detail
-#if defined(__clang__)
-#pragma clang attribute pop
-#else
-#pragma GCC pop_options
-#endif
+TROCAR_TARGET_REGION_END()
 
 #else
 
