@@ -15,6 +15,13 @@ namespace trocar {
 
 namespace {
 
+/// A walked box (a_lo, a_hi) that misses the overlap (b_lo, b_hi) of the two grown cluster boxes
+/// misses every box of the other cluster, since a box lies in its cluster's grown box.
+inline bool misses_overlap(const Real (&a_lo)[3], const Real (&a_hi)[3], const Real (&b_lo)[3], const Real (&b_hi)[3]) {
+  return a_lo[0] > b_hi[0] || b_lo[0] > a_hi[0] || a_lo[1] > b_hi[1] || b_lo[1] > a_hi[1] || a_lo[2] > b_hi[2] ||
+         b_lo[2] > a_hi[2];
+}
+
 // Writes to `hits` the j in [begin, end) whose box (lo/hi: the cell's boxes, one array per axis
 // and side) is not separated from box (a_lo, a_hi) on any axis; returns how many. Exact: the
 // same comparisons as a scalar test (a NaN separates nothing, as there).
@@ -115,11 +122,7 @@ __attribute__((target("avx512f,avx512vl,avx512dq"))) std::uint32_t cluster_pair_
   for (std::uint32_t a = outer_begin; a < outer_end; ++a) {
     const Real a_lo[3] = {lo[0][a], lo[1][a], lo[2][a]};
     const Real a_hi[3] = {hi[0][a], hi[1][a], hi[2][a]};
-    // A box lies in its cluster's grown box, so one that misses the overlap of the two grown
-    // cluster boxes misses every box of the other cluster.
-    if (a_lo[0] > b_hi[0] || b_lo[0] > a_hi[0] || a_lo[1] > b_hi[1] || b_lo[1] > a_hi[1] || a_lo[2] > b_hi[2] ||
-        b_lo[2] > a_hi[2])
-      continue;
+    if (misses_overlap(a_lo, a_hi, b_lo, b_hi)) continue;
     const __m512d alo[3] = {_mm512_set1_pd(a_lo[0]), _mm512_set1_pd(a_lo[1]), _mm512_set1_pd(a_lo[2])};
     const __m512d ahi[3] = {_mm512_set1_pd(a_hi[0]), _mm512_set1_pd(a_hi[1]), _mm512_set1_pd(a_hi[2])};
     const __m512i walked = _mm512_set1_epi64(static_cast<long long>(ids[a]));
@@ -297,11 +300,7 @@ void OhcBroadPhase::emit_cluster_pairs(std::span<const CollisionObject> objects,
     for (std::uint32_t a = outer_begin; a < outer_end; ++a) {
       const Real a_lo[3] = {lo[0][a], lo[1][a], lo[2][a]};
       const Real a_hi[3] = {hi[0][a], hi[1][a], hi[2][a]};
-      // A box lies in its cluster's grown box, so one that misses the overlap of the two grown
-      // cluster boxes misses every box of the other cluster.
-      if (a_lo[0] > b_hi[0] || b_lo[0] > a_hi[0] || a_lo[1] > b_hi[1] || b_lo[1] > a_hi[1] || a_lo[2] > b_hi[2] ||
-          b_lo[2] > a_hi[2])
-        continue;
+      if (misses_overlap(a_lo, a_hi, b_lo, b_hi)) continue;
       const std::uint32_t n_hits = box_hits(kernel, lo, hi, inner_begin, inner_end, a_lo, a_hi, hits);
       const OpenedId pa = opened_ids_[a];
       for (std::uint32_t k = 0; k < n_hits; ++k) {
