@@ -1,7 +1,8 @@
 #pragma once
-// A small probe–sphere scene shared by the simulation tests: a capsule probe (radius 3 mm, tip at
-// its local origin, shaft along +z) moves down onto an icosphere tissue (radius 30 mm, bottom
-// fixed) and then holds still.
+// A small probe–sphere scene shared by the simulation tests: a capsule probe (radius 3 mm, its
+// tip's hemisphere centred on its local origin, so the tip is 3 mm below the keyframe position;
+// shaft along +z) moves down onto an icosphere tissue (radius 30 mm, bottom fixed) and then
+// holds still.
 #include <string>
 
 #include "trocar/scene/scene.h"
