@@ -1,11 +1,13 @@
 // Scene files: a valid scene loads into a World; each kind of error names the file and key path.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <string>
 
 #include "trocar/core/error.h"
+#include "trocar/mesh/generate.h"
 #include "trocar/scene/scene.h"
 
 namespace trocar {
@@ -55,6 +57,25 @@ TEST(Scene, ValidSceneBuildsTheWorld) {
   const Scene plain = parse_scene(scene_text(), "scene.json", ".");
   EXPECT_TRUE(plain.settings.response.depth_cap);                 // the default
   EXPECT_EQ(plain.settings.response.correction_speed, 0.05);      // the default (m/s)
+}
+
+// The loader renumbers a tissue's vertices for locality (mesh/renumber.h); fixed.indices name
+// vertices of the file, so the vertices fixed are the ones at those file positions.
+TEST(Scene, FixedIndicesFollowTheRenumberedVertices) {
+  const TriMesh file_mesh = make_icosphere(0.03, 2);
+  const Scene scene = parse_scene(scene_text(R"(, "fixed": {"indices": [0, 5, 161]})"), "scene.json", ".");
+  const MassSpringSettings& s = scene.world.tissues[0]->settings;
+  ASSERT_EQ(s.vertex_count(), file_mesh.vertex_count());
+  std::vector<Vec3> fixed_positions;
+  for (std::size_t v = 0; v < s.vertex_count(); ++v)
+    if (s.fixed[v]) fixed_positions.push_back(s.rest_positions[v]);
+  ASSERT_EQ(fixed_positions.size(), 3u);
+  for (const std::uint32_t v : {0u, 5u, 161u})
+    EXPECT_NE(std::find(fixed_positions.begin(), fixed_positions.end(), file_mesh.positions[v]),
+              fixed_positions.end())
+        << "file vertex " << v;
+  // And the renumbering did happen: the icosphere generator's own order is not local.
+  EXPECT_NE(s.rest_positions[0], file_mesh.positions[0]);
 }
 
 TEST(Scene, UnknownKeyNamesItsPath) {

@@ -6,6 +6,7 @@
 
 #include "trocar/core/error.h"
 #include "trocar/core/pose.h"
+#include "trocar/mesh/renumber.h"
 #include "trocar/mesh/repair.h"
 #include "trocar/scene/json_reader.h"
 #include "trocar/scene/mesh_source.h"
@@ -100,9 +101,15 @@ IntegratorKind read_integrator(const JsonReader& obj) {
 void read_tissue(const JsonReader& t, std::size_t index, Scene& scene, const std::filesystem::path& dir) {
   t.expect_keys({"name", "mesh", "scale", "translate", "rotate_deg", "repair", "material", "fixed", "integrator"});
   const std::string name = name_or(t, "tissue", index);
-  const TriMesh mesh = placed_mesh(t, dir);
+  const TriMesh file_mesh = placed_mesh(t, dir);
   const MassSpringMaterial material = t.has("material") ? read_material(t.at("material")) : MassSpringMaterial{};
-  const FixedSelection fixed = t.has("fixed") ? read_fixed(t.at("fixed"), mesh.vertex_count()) : FixedSelection{};
+  FixedSelection fixed = t.has("fixed") ? read_fixed(t.at("fixed"), file_mesh.vertex_count()) : FixedSelection{};
+  // The tissue's vertices are renumbered for memory locality (mesh/renumber.h: its steps run
+  // 3-5 % faster); `fixed.indices` name vertices in the file's order, so they follow.
+  const std::vector<std::uint32_t> order = locality_vertex_order(file_mesh);
+  const TriMesh mesh = renumber_vertices(file_mesh, order);
+  const std::vector<std::uint32_t> new_index = inverse_order(order);
+  for (std::uint32_t& v : fixed.indices) v = new_index[v];
   const IntegratorKind kind = read_integrator(t);
   try {
     scene.world.add_tissue(name, mesh, material, fixed, scene.gravity, kind);
