@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <string>
 
+#include "probe_scene.h"
 #include "trocar/scene/scene.h"
 #include "trocar/sim/simulation.h"
 
@@ -18,24 +19,10 @@ namespace {
 /// that presses the tip 4 mm into the top of the ball (t = 0.1 s), slides it 12 mm sideways (to
 /// 0.25 s) and lifts it off (to 0.35 s).
 std::string press_slide_lift_text() {
-  return R"({
-  "schema": 1, "name": "probe-slide", "timestep": 0.001, "duration": 0.4, "gravity": [0, 0, 0],
-  "tissues": [{ "name": "ball", "mesh": {"generate": "icosphere", "radius": 0.03, "subdivisions": 3},
-                "material": {"mass": 0.1, "k_structural": 200, "k_bending": 20, "damping": 2,
-                             "spring_damping": 0.05, "k_volume": 500, "k_home": 20},
-                "fixed": {"below_plane": {"point": [0, 0, -0.015], "normal": [0, 0, 1]}},
-                "integrator": "implicit-euler" }],
-  "instruments": [{ "name": "probe", "mesh": {"generate": "capsule", "radius": 0.003, "length": 0.05,
-                                              "segments": 12, "rings": 3},
-                    "top_vertex": "auto",
-                    "motion": {"keyframes": [
-                      {"t": 0, "position": [0, 0, 0.036]},
-                      {"t": 0.1, "position": [0, 0, 0.029]},
-                      {"t": 0.25, "position": [0.012, 0, 0.0285]},
-                      {"t": 0.35, "position": [0.012, 0, 0.04]}]}}],
-  "collision": {"broad_phase": "ohc", "cell_size": "auto"},
-  "response": {"method": "obb", "stiffness": 200, "damping": 10, "max_force": 10}
-})";
+  return test::probe_scene_text_with_keyframes(R"({"t": 0, "position": [0, 0, 0.036]},
+                                                {"t": 0.1, "position": [0, 0, 0.029]},
+                                                {"t": 0.25, "position": [0.012, 0, 0.0285]},
+                                                {"t": 0.35, "position": [0.012, 0, 0.04]})");
 }
 
 /// The metrics' vertices_inside and penetration_max from every instrument vertex's brute-force

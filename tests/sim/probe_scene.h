@@ -9,9 +9,8 @@
 
 namespace trocar::test {
 
-/// Scene text: the probe's tip goes from z = `z_start` to `z_end` (m) between t = 0 and
-/// t = `t_end` (s), then holds.
-inline std::string probe_scene_text(double z_start, double z_end, double t_end, const std::string& extra = "") {
+/// Scene text with the probe's keyframes given as JSON objects ("{"t": 0, "position": [...]}, ...").
+inline std::string probe_scene_text_with_keyframes(const std::string& keyframes, const std::string& extra = "") {
   return R"({
   "schema": 1, "name": "probe-sphere", "timestep": 0.001, "duration": 0.2, "gravity": [0, 0, 0],
   "tissues": [{ "name": "ball", "mesh": {"generate": "icosphere", "radius": 0.03, "subdivisions": 3},
@@ -22,12 +21,18 @@ inline std::string probe_scene_text(double z_start, double z_end, double t_end, 
   "instruments": [{ "name": "probe", "mesh": {"generate": "capsule", "radius": 0.003, "length": 0.05,
                                               "segments": 12, "rings": 3},
                     "top_vertex": "auto",
-                    "motion": {"keyframes": [
-                      {"t": 0, "position": [0, 0, )" + std::to_string(z_start) + R"(]},
-                      {"t": )" + std::to_string(t_end) + R"(, "position": [0, 0, )" + std::to_string(z_end) + R"(]}]}}],
+                    "motion": {"keyframes": [)" + keyframes + R"(]}}],
   "collision": {"broad_phase": "ohc", "cell_size": "auto"},
   "response": {"method": "obb", "stiffness": 200, "damping": 10, "max_force": 10})" + extra + R"(
 })";
+}
+
+/// Scene text: the probe's keyframe position goes from z = `z_start` to `z_end` (m) between t = 0
+/// and t = `t_end` (s), then holds.
+inline std::string probe_scene_text(double z_start, double z_end, double t_end, const std::string& extra = "") {
+  return probe_scene_text_with_keyframes(R"({"t": 0, "position": [0, 0, )" + std::to_string(z_start) + R"(]},
+                      {"t": )" + std::to_string(t_end) + R"(, "position": [0, 0, )" + std::to_string(z_end) + "]}",
+                                         extra);
 }
 
 /// The probe scene, loaded.
