@@ -104,14 +104,14 @@ void read_tissue(const JsonReader& t, std::size_t index, Scene& scene, const std
   const TriMesh file_mesh = placed_mesh(t, dir);
   const MassSpringMaterial material = t.has("material") ? read_material(t.at("material")) : MassSpringMaterial{};
   FixedSelection fixed = t.has("fixed") ? read_fixed(t.at("fixed"), file_mesh.vertex_count()) : FixedSelection{};
-  // The tissue's vertices are renumbered for memory locality (mesh/renumber.h: its steps run
-  // 3-5 % faster); `fixed.indices` name vertices in the file's order, so they follow.
-  const std::vector<std::uint32_t> order = locality_vertex_order(file_mesh);
-  const TriMesh mesh = renumber_vertices(file_mesh, order);
-  const std::vector<std::uint32_t> new_index = inverse_order(order);
-  for (std::uint32_t& v : fixed.indices) v = new_index[v];
   const IntegratorKind kind = read_integrator(t);
   try {
+    // The tissue's vertices are renumbered for memory locality (mesh/renumber.h: its steps run
+    // 3-5 % faster); `fixed.indices` name vertices in the file's order, so they follow.
+    const std::vector<std::uint32_t> order = locality_vertex_order(file_mesh);
+    const TriMesh mesh = renumber_vertices(file_mesh, order);
+    const std::vector<std::uint32_t> new_index = inverse_order(order);
+    for (std::uint32_t& v : fixed.indices) v = new_index[v];
     scene.world.add_tissue(name, mesh, material, fixed, scene.gravity, kind);
   } catch (const Error& e) {
     t.fail(e.what());
