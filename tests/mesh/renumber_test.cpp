@@ -98,6 +98,12 @@ TEST(Renumber, RejectsAnOrderThatIsNotAPermutation) {
   order = std::vector<std::uint32_t>(12, 0);
   std::iota(order.begin(), order.end(), 1u);  // 12 is out of range
   EXPECT_THROW(renumber_vertices(mesh, order), Error);
+  TriMesh broken = mesh;
+  broken.triangles[3][1] = 12;  // no such vertex
+  EXPECT_THROW(locality_vertex_order(broken), Error);
+  // An empty mesh has an empty order.
+  EXPECT_TRUE(locality_vertex_order(TriMesh{}).empty());
+  EXPECT_EQ(renumber_vertices(TriMesh{}, {}).vertex_count(), 0u);
 }
 
 // The shared liver (2,194 V): in the file's order an edge joins vertices 779 indices apart on
