@@ -200,14 +200,16 @@ TROCAR_AVX2 void copy_padded_avx2(const Vec3* p, std::size_t n, Padded3* out) {
 
 }  // namespace
 
+void check_padded_vertex_count(std::uint64_t vertex_count) {
+  constexpr std::uint64_t kLimit = std::uint64_t{1} << 27;  // 134,217,728
+  if (vertex_count >= kLimit)
+    throw Error("tissue: " + std::to_string(vertex_count) +
+                " vertices are beyond the 134,217,727 the padded layout addresses");
+}
+
 namespace {
-/// Byte offsets are 32-bit: vertex × 32 must fit (2^27 = 134,217,728 vertices).
 void check_offsets(const std::vector<Spring>& springs) {
-  constexpr std::uint64_t kLimit = std::uint64_t{1} << 27;
-  for (const Spring& sp : springs)
-    if (sp.i >= kLimit || sp.j >= kLimit)
-      throw Error("tissue: spring vertex index " + std::to_string(std::max(sp.i, sp.j)) +
-                  " is beyond the 134,217,728 vertices the padded layout addresses");
+  for (const Spring& sp : springs) check_padded_vertex_count(std::uint64_t{std::max(sp.i, sp.j)} + 1);
 }
 void put(SpringQuad& q, std::size_t k, const Spring& sp, bool flip) {
   q.i[k] = static_cast<std::uint32_t>((flip ? sp.j : sp.i) * sizeof(Padded3));

@@ -10,6 +10,7 @@
 #include "trocar/core/cpu_features.h"
 #include "trocar/core/types.h"
 #include "trocar/tissue/settings.h"
+#include "trocar/tissue/state.h"
 
 namespace trocar::tissue_detail {
 
@@ -34,6 +35,23 @@ class PaddedArrays {
   std::vector<Padded3> storage_;
   std::size_t n_ = 0, stride_ = 0;
 };
+
+/// Throws trocar::Error unless `vertex_count` vertices fit the padded layout: the byte offsets
+/// (index × 32) the spring quads and fans store are 32-bit; the layout takes fewer than 2^27.
+void check_padded_vertex_count(std::uint64_t vertex_count);
+
+/// f_i += the loads' external force at each vertex the step loaded (TissueLoads records them),
+/// for n vertices; nothing when the loads are not sized for n (never reset: no forces).
+/// Inline, so that each caller (the AVX2 implicit step is one) compiles it for its own target.
+inline void add_external_forces(const TissueLoads& loads, Padded3* f, std::size_t n) {
+  const std::span<const Vec3> external = loads.forces();
+  if (external.size() != n) return;
+  for (const std::uint32_t i : loads.loaded_vertices()) {
+    f[i].x += external[i].x();
+    f[i].y += external[i].y();
+    f[i].z += external[i].z();
+  }
+}
 
 /// Four springs' data lane by lane (structure of arrays), so the AVX2 pass loads each parameter
 /// of four springs at once. 128 bytes, the size of four Spring records. The endpoints are byte

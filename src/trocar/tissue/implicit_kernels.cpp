@@ -217,9 +217,7 @@ TROCAR_AVX2 void ImplicitAvx2::linearise(const TissueLoads& loads, Real h, const
       _mm256_store_pd(preconditioner_[i].off, _mm256_setzero_pd());
     }
     // f_ext: only at the vertices the step loaded (TissueLoads).
-    const std::span<const Vec3> external = loads.forces();
-    if (external.size() == n)
-      for (const std::uint32_t i : loads.loaded_vertices()) store(f_[i], _mm256_add_pd(load(f_[i]), vec3(external[i])));
+    add_external_forces(loads, f_.data(), n);
   }
 
   // Springs, four at a time: the force σ d (+ h K_s v₀ = h k (c δv + (1 − c)(u·δv) u)), the

@@ -118,14 +118,7 @@ StepStats MassSpringIntegrator::step_explicit(MassSpringState& state, const Tiss
   in.rest = padded_rest_.data();
   in.pair = pair_forces_.data();
   // External forces: only at the vertices the step loaded (TissueLoads), into the pair forces.
-  const std::span<const Vec3> external = loads.forces();
-  if (external.size() == n)
-    for (const std::uint32_t i : loads.loaded_vertices()) {
-      tissue_detail::Padded3& p = pair_forces_[i];
-      p.x += external[i].x();
-      p.y += external[i].y();
-      p.z += external[i].z();
-    }
+  add_external_forces(loads, pair_forces_.data(), n);
   // Volume: 6V = Σ (a − o)·n_t about o = the first triangle's first vertex (as forces.cpp), and
   // 6 ∂V/∂x_i = Σ_{t∋i} n_t; the pressure force is −κ_V (V − V0) ∂V/∂x_i.
   if (terms_.volume && s.closed && s.k_volume > 0 && s.rest_volume > 0 && !s.triangles.empty()) {

@@ -3,9 +3,6 @@
 // → 3.1, abdominal wall 4.4 → 2.7; docs/tissue-integrators.md, "The AVX2 passes").
 #include "trocar/tissue/volume_fans.h"
 
-#include <string>
-
-#include "trocar/core/error.h"
 #include "trocar/tissue/avx2.h"
 
 namespace trocar::tissue_detail {
@@ -110,10 +107,7 @@ struct Corner {
 }  // namespace
 
 VolumeLayout make_volume_layout(const std::vector<Triangle>& triangles, std::size_t vertex_count) {
-  constexpr std::uint64_t kLimit = std::uint64_t{1} << 27;  // index × 32 must fit 32 bits
-  if (vertex_count >= kLimit)
-    throw Error("tissue: " + std::to_string(vertex_count) +
-                " vertices are beyond the 134,217,728 the padded layout addresses");
+  check_padded_vertex_count(vertex_count);
   VolumeLayout layout;
   if (triangles.empty()) return layout;
   layout.origin = triangles[0][0];
