@@ -24,7 +24,9 @@
 //    stepSimulation(dt, 0). Bullet's state is not reset (it keeps sagging and settling).
 //
 // Counters: ns_per_vertex (CPU ns per vertex per step), vertices, and for ours simd (1 when the
-// AVX2 passes ran; the -scalar row forces the portable ones), cg_iterations
+// AVX2 passes ran; the -scalar row forces the portable ones), sweep (explicit: 1 when the step ran
+// as one sweep over blocks of vertices, explicit_sweep.h; the -passes and -sweep rows force
+// each), cg_iterations
 // (mean per step, implicit) and finite (1 when the state stayed finite).
 #include <benchmark/benchmark.h>
 
@@ -171,7 +173,8 @@ benchmark::Counter ns_per_vertex(std::size_t vertices) {
                             benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 
-void bm_ours(benchmark::State& bs, const Organ& organ, IntegratorKind kind, bool simd) {
+void bm_ours(benchmark::State& bs, const Organ& organ, IntegratorKind kind, bool simd,
+             std::optional<bool> sweep = std::nullopt) {
   const TriMesh* mesh = organ_mesh(organ);
   if (mesh == nullptr) {
     bs.SkipWithError("shared mesh not available");
@@ -186,6 +189,7 @@ void bm_ours(benchmark::State& bs, const Organ& organ, IntegratorKind kind, bool
   if (kind == IntegratorKind::kImplicitEuler) bs.counters["explicit_diverged"] = explicit_diverges(settings) ? 1 : 0;
   MassSpringIntegrator integrator(settings, kind);
   integrator.set_simd(simd);
+  if (sweep) integrator.set_explicit_sweep(*sweep);
   TissueLoads loads;
   loads.reset(settings.vertex_count(), 0);
   const MassSpringState start = jittered(settings);
@@ -208,6 +212,7 @@ void bm_ours(benchmark::State& bs, const Organ& organ, IntegratorKind kind, bool
   }
   bs.counters["vertices"] = static_cast<double>(settings.vertex_count());
   bs.counters["simd"] = integrator.simd() ? 1 : 0;
+  if (kind != IntegratorKind::kImplicitEuler) bs.counters["sweep"] = integrator.explicit_sweep() ? 1 : 0;
   bs.counters["ns_per_vertex"] = ns_per_vertex(settings.vertex_count());
   bs.counters["finite"] = finite ? 1 : 0;
   bs.counters["k_structural"] = material.k_structural;
@@ -338,7 +343,8 @@ void bm_bullet_deformable(benchmark::State& bs, const Organ& organ) {
 
 #endif  // TROCAR_HAVE_BULLET
 
-/// Registers every row: BM_Tissue/<organ>/<integrator> (and semi-implicit-euler-scalar), BM_BulletSoftBody/<organ>,
+/// Registers every row: BM_Tissue/<organ>/<integrator> (and semi-implicit-euler-scalar, -passes and
+/// -sweep), BM_BulletSoftBody/<organ>,
 /// BM_BulletDeformable/<organ>.
 bool register_all() {
   constexpr IntegratorKind kKinds[] = {IntegratorKind::kExplicitEuler, IntegratorKind::kSemiImplicitEuler,
@@ -362,6 +368,12 @@ bool register_all() {
                                    bm_ours(bs, organ, IntegratorKind::kSemiImplicitEuler, false);
                                  })
         ->Unit(benchmark::kMicrosecond);
+    // Both AVX2 explicit steps whichever the default picks: pass by pass, and the sweep.
+    for (const bool sweep : {false, true})
+      benchmark::RegisterBenchmark(
+          (std::string("BM_Tissue/") + organ.label + "/semi-implicit-euler-" + (sweep ? "sweep" : "passes")).c_str(),
+          [&organ, sweep](benchmark::State& bs) { bm_ours(bs, organ, IntegratorKind::kSemiImplicitEuler, true, sweep); })
+          ->Unit(benchmark::kMicrosecond);
 #ifdef TROCAR_HAVE_BULLET
     benchmark::RegisterBenchmark((std::string("BM_BulletSoftBody/") + organ.label).c_str(),
                                  [&organ](benchmark::State& bs) { bm_bullet_softbody(bs, organ); })

@@ -10,6 +10,7 @@
 #include "trocar/core/types.h"
 #include "trocar/tissue/explicit_kernels.h"
 #include "trocar/tissue/internal.h"
+#include "trocar/tissue/volume_fans.h"
 
 #define TROCAR_HAVE_X86 1
 #define TROCAR_AVX2 __attribute__((target("avx2,fma")))
@@ -106,6 +107,94 @@ TROCAR_AVX2 inline QuadGeometry quad_geometry(const SpringQuad& s, const Padded3
   g.inverse_length = _mm256_and_pd(_mm256_div_pd(_mm256_set1_pd(1.0), _mm256_sqrt_pd(g.length2)),
                                    _mm256_cmp_pd(g.length2, tiny, _CMP_GT_OQ));
   return g;
+}
+
+/// A fan's four normals n_k = e_k × e_{k+1}, e_k = r_k − c (volume_fans.h), each e_k permuted
+/// once (cross above).
+TROCAR_AVX2 inline void fan_normals(__m256d c, const __m256d* r, __m256d* n) {
+  __m256d e[5], y[5];
+  for (int k = 0; k < 5; ++k) {
+    e[k] = _mm256_sub_pd(r[k], c);
+    y[k] = yzx(e[k]);
+  }
+  for (int k = 0; k < 4; ++k) n[k] = yzx(_mm256_fmsub_pd(e[k], y[k + 1], _mm256_mul_pd(y[k], e[k + 1])));
+}
+
+/// Vertex loads for volume_gradient: from a padded array, or from the state's own Vec3s (the
+/// masked load3). Offsets are index × 32, as the layouts store them.
+struct PaddedLoad {
+  const Padded3* x;
+  TROCAR_AVX2 __m256d operator()(std::uint32_t offset) const { return load_at(x, offset); }
+};
+struct StateLoad {
+  const Vec3* x;
+  TROCAR_AVX2 __m256d operator()(std::uint32_t offset) const { return load3(x[offset / sizeof(Padded3)]); }
+};
+
+/// g_i += Σ_{t∋i} n_t over the layout's fans and single triangles, and returns 6V about the
+/// layout's origin (volume_fans.h's add_volume_gradient).
+template <class Load>
+TROCAR_AVX2 inline Real volume_gradient(const VolumeLayout& layout, Load vertex, Padded3* g) {
+  constexpr std::uint32_t kStride = sizeof(Padded3);
+  const __m256d origin = vertex(layout.origin * kStride);
+  __m256d six_v = _mm256_setzero_pd();
+  for (const TriangleFan& f : layout.fans) {
+    const __m256d c = vertex(f.center);
+    __m256d r[5], n[4];
+    for (int k = 0; k < 5; ++k) r[k] = vertex(f.ring[k]);
+    fan_normals(c, r, n);
+    const __m256d n01 = _mm256_add_pd(n[0], n[1]), n23 = _mm256_add_pd(n[2], n[3]);
+    const __m256d total = _mm256_add_pd(n01, n23);
+    six_v = _mm256_fmadd_pd(_mm256_sub_pd(c, origin), total, six_v);
+    add_at(g, f.center, total);
+    add_at(g, f.ring[0], n[0]);
+    add_at(g, f.ring[1], n01);
+    add_at(g, f.ring[2], _mm256_add_pd(n[1], n[2]));
+    add_at(g, f.ring[3], n23);
+    add_at(g, f.ring[4], n[3]);
+  }
+  for (const Triangle& tri : layout.singles) {
+    // Indices into locals: the stores below may alias anything, so the compiler would reload them.
+    const std::uint32_t ia = tri[0], ib = tri[1], ic = tri[2];
+    const __m256d a = vertex(ia * kStride);
+    const __m256d n = cross(_mm256_sub_pd(vertex(ib * kStride), a), _mm256_sub_pd(vertex(ic * kStride), a));
+    six_v = _mm256_fmadd_pd(_mm256_sub_pd(a, origin), n, six_v);
+    store(g[ia], _mm256_add_pd(load(g[ia]), n));
+    store(g[ib], _mm256_add_pd(load(g[ib]), n));
+    store(g[ic], _mm256_add_pd(load(g[ic]), n));
+  }
+  alignas(32) Real lanes[4];
+  _mm256_store_pd(lanes, six_v);
+  return lanes[0] + lanes[1] + lanes[2];
+}
+
+/// f += the spring forces of `count` quads (eq. 3.2; forces.cpp's spring_forces), lane by lane.
+/// kStar: the quad's four springs share their first vertex (SpringLayout::stars), so x_i and v_i
+/// are loaded once and f_i gets one read-modify-write of the four forces' sum.
+template <bool kStar>
+TROCAR_AVX2 inline void add_quad_spring_forces(const SpringQuad* quads, std::size_t count, const Padded3* x,
+                                               const Padded3* v, Padded3* f) {
+  for (std::size_t q = 0; q < count; ++q) {
+    const SpringQuad& s = quads[q];
+    const QuadGeometry g = quad_geometry<kStar>(s, x, v);
+    const __m256d* d = g.d;
+    const __m256d len2 = g.length2, speed = g.speed, inv = g.inverse_length;
+    // σ = k (|d| − l)/|d| + λ (Δv·d)/|d|²; f_i = σ d, f_j = −σ d.
+    const __m256d stretch = _mm256_sub_pd(_mm256_mul_pd(len2, inv), _mm256_load_pd(s.rest_length));
+    const __m256d damping = _mm256_mul_pd(_mm256_mul_pd(_mm256_load_pd(s.damping), speed), _mm256_mul_pd(inv, inv));
+    alignas(32) Real sigma[4];
+    _mm256_store_pd(sigma, _mm256_fmadd_pd(_mm256_mul_pd(_mm256_load_pd(s.stiffness), stretch), inv, damping));
+    __m256d sum = _mm256_setzero_pd();
+    for (int k = 0; k < 4; ++k) {
+      const __m256d fk = _mm256_mul_pd(_mm256_broadcast_sd(&sigma[k]), d[k]);
+      if constexpr (kStar)
+        sum = _mm256_add_pd(sum, fk);
+      else
+        add_at(f, s.i[k], fk);
+      subtract_at(f, s.j[k], fk);
+    }
+    if constexpr (kStar) add_at(f, s.i[0], sum);
+  }
 }
 
 }  // namespace trocar::tissue_detail::avx2

@@ -94,34 +94,6 @@ Real update_scalar(const MassSpringSettings& s, Vec3* x, Vec3* v, const UpdateIn
 #ifdef TROCAR_HAVE_X86
 using namespace avx2;
 
-/// kStar: the quad's four springs share their first vertex (SpringLayout::stars), so x_i and v_i
-/// are loaded once and f_i gets one read-modify-write of the four forces' sum.
-template <bool kStar>
-TROCAR_AVX2 void spring_forces_avx2(const SpringQuad* quads, std::size_t count, const Padded3* x, const Padded3* v,
-                                    Padded3* f) {
-  for (std::size_t q = 0; q < count; ++q) {
-    const SpringQuad& s = quads[q];
-    const QuadGeometry g = quad_geometry<kStar>(s, x, v);
-    const __m256d* d = g.d;
-    const __m256d len2 = g.length2, speed = g.speed, inv = g.inverse_length;
-    // σ = k (|d| − l)/|d| + λ (Δv·d)/|d|²; f_i = σ d, f_j = −σ d.
-    const __m256d stretch = _mm256_sub_pd(_mm256_mul_pd(len2, inv), _mm256_load_pd(s.rest_length));
-    const __m256d damping = _mm256_mul_pd(_mm256_mul_pd(_mm256_load_pd(s.damping), speed), _mm256_mul_pd(inv, inv));
-    alignas(32) Real sigma[4];
-    _mm256_store_pd(sigma, _mm256_fmadd_pd(_mm256_mul_pd(_mm256_load_pd(s.stiffness), stretch), inv, damping));
-    __m256d sum = _mm256_setzero_pd();
-    for (int k = 0; k < 4; ++k) {
-      const __m256d fk = _mm256_mul_pd(_mm256_broadcast_sd(&sigma[k]), d[k]);
-      if constexpr (kStar)
-        sum = _mm256_add_pd(sum, fk);
-      else
-        add_at(f, s.i[k], fk);
-      subtract_at(f, s.j[k], fk);
-    }
-    if constexpr (kStar) add_at(f, s.i[0], sum);
-  }
-}
-
 /// Σ ½ k (|d| − l)² for four springs at a time: d transposed into x, y, z rows, |d| by vsqrtpd.
 template <bool kStar>
 TROCAR_AVX2 __m256d spring_energy_avx2(const SpringQuad* quads, std::size_t count, const Padded3* x, __m256d sum) {
@@ -284,8 +256,8 @@ void copy_padded(const Vec3* p, std::size_t n, Padded3* out) {
 void add_spring_forces(const SpringLayout& layout, const Padded3* x, const Padded3* v, Padded3* f, bool use_avx2) {
 #ifdef TROCAR_HAVE_X86
   if (use_avx2) {
-    spring_forces_avx2<true>(layout.stars.data(), layout.stars.size(), x, v, f);
-    spring_forces_avx2<false>(layout.others.data(), layout.others.size(), x, v, f);
+    add_quad_spring_forces<true>(layout.stars.data(), layout.stars.size(), x, v, f);
+    add_quad_spring_forces<false>(layout.others.data(), layout.others.size(), x, v, f);
     return;
   }
 #endif

@@ -8,6 +8,7 @@
 
 #include "trocar/core/error.h"
 #include "trocar/tissue/integrator.h"
+#include "trocar/tissue/internal.h"
 
 namespace trocar {
 
@@ -49,6 +50,7 @@ MassSpringIntegrator::MassSpringIntegrator(const MassSpringSettings& settings, I
     tissue_detail::copy_padded(settings.rest_positions.data(), n, padded_rest_.data());
     spring_layout_ = tissue_detail::make_spring_layout(settings.springs, n, &settings.fixed);
     volume_layout_ = tissue_detail::make_volume_layout(settings.triangles, n);
+    set_explicit_sweep(tissue_detail::sweep_pays(settings));
     return;
   }
 
@@ -64,6 +66,11 @@ MassSpringIntegrator::MassSpringIntegrator(const MassSpringSettings& settings, I
   diagonal_mass_.assign(n, 0.0);
   spring_cache_.resize(settings.springs.size());
   triangle_cache_.resize(settings.triangles.size());
+}
+
+void MassSpringIntegrator::set_explicit_sweep(bool on) {
+  sweep_on_ = on && kind_ != IntegratorKind::kImplicitEuler && cpu_has_avx2_fma();
+  if (sweep_on_ && !sweep_) sweep_ = std::make_unique<tissue_detail::ExplicitSweep>(settings_);
 }
 
 StepStats MassSpringIntegrator::step(MassSpringState& state, const TissueLoads& loads, Real dt) {
@@ -105,6 +112,12 @@ StepStats MassSpringIntegrator::step_explicit(MassSpringState& state, const Tiss
   }
   Vec3* x = state.positions.data();
   Vec3* v = state.velocities.data();
+  StepStats stats;
+  if (use_avx2_ && explicit_sweep() && !area_term_on(s, terms_)) {
+    stats.finite = std::isfinite(sweep_->step(s, x, v, loads, terms_, dt, symplectic));
+    end_step(state);
+    return stats;
+  }
   const std::size_t n = s.vertex_count();
   copy_padded(x, n, padded_positions_.data());
   copy_padded(v, n, padded_velocities_.data());
@@ -136,7 +149,6 @@ StepStats MassSpringIntegrator::step_explicit(MassSpringState& state, const Tiss
   // finite ones overflows, beyond any physical scale), checked once per step.
   const Real check = explicit_update(s, x, v, in, use_avx2_);
   end_step(state);
-  StepStats stats;
   stats.finite = std::isfinite(check);
   return stats;
 }

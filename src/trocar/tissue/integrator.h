@@ -7,6 +7,7 @@
 
 #include "trocar/core/types.h"
 #include "trocar/tissue/explicit_kernels.h"
+#include "trocar/tissue/explicit_sweep.h"
 #include "trocar/tissue/implicit_kernels.h"
 #include "trocar/tissue/forces.h"
 #include "trocar/tissue/settings.h"
@@ -59,6 +60,13 @@ class MassSpringIntegrator {
   /// scalar passes, e.g. to compare the two; on is ignored where the CPU lacks AVX2/FMA.
   void set_simd(bool on) { use_avx2_ = on && cpu_has_avx2_fma(); }
   bool simd() const { return use_avx2_; }
+  /// Explicit integrators with AVX2: whether the step runs as one sweep over blocks of vertices
+  /// (explicit_sweep.h) rather than pass by pass. Default: where the passes' arrays exceed the L2
+  /// cache (tissue_detail::sweep_pays). Setting it builds the sweep's layout if needed (it
+  /// allocates: not during a step). The two agree to rounding; the area term always runs pass
+  /// by pass.
+  void set_explicit_sweep(bool on);
+  bool explicit_sweep() const { return sweep_on_ && sweep_ != nullptr; }
 
  private:
   StepStats step_explicit(MassSpringState& state, const TissueLoads& loads, Real dt, bool symplectic);
@@ -108,6 +116,10 @@ class MassSpringIntegrator {
   std::span<tissue_detail::Padded3> padded_rest_;  ///< the rest positions
   tissue_detail::SpringLayout spring_layout_;  ///< the springs, four by four
   tissue_detail::VolumeLayout volume_layout_;  ///< the triangles in fans (volume term)
+  /// Explicit: the passes fused into one sweep (explicit_sweep.h), built where the CPU has
+  /// AVX2+FMA and the sweep is on; used unless the area term is on.
+  std::unique_ptr<tissue_detail::ExplicitSweep> sweep_;
+  bool sweep_on_ = false;
   /// Implicit: the AVX2 solver (where the CPU has AVX2+FMA), used unless the area term is on.
   std::unique_ptr<tissue_detail::ImplicitAvx2> implicit_avx2_;
   bool use_avx2_ = false;  ///< the CPU has AVX2 + FMA (explicit_kernels.h)

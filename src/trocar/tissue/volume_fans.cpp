@@ -61,41 +61,7 @@ Real single_scalar(const Triangle& tri, const Padded3* x, const Padded3& origin,
 using namespace avx2;
 
 TROCAR_AVX2 Real gradient_avx2(const VolumeLayout& layout, const Padded3* x, Padded3* g) {
-  const __m256d origin = load(x[layout.origin]);
-  __m256d six_v = _mm256_setzero_pd();
-  for (const TriangleFan& f : layout.fans) {
-    // n_k = e_k × e_{k+1} with e_k = r_k − c; each e_k is permuted once (avx2.h's cross).
-    const __m256d c = load_at(x, f.center);
-    __m256d e[5], y[5];
-    for (int k = 0; k < 5; ++k) {
-      e[k] = _mm256_sub_pd(load_at(x, f.ring[k]), c);
-      y[k] = yzx(e[k]);
-    }
-    __m256d n[4];
-    for (int k = 0; k < 4; ++k) n[k] = yzx(_mm256_fmsub_pd(e[k], y[k + 1], _mm256_mul_pd(y[k], e[k + 1])));
-    const __m256d n01 = _mm256_add_pd(n[0], n[1]), n23 = _mm256_add_pd(n[2], n[3]);
-    const __m256d total = _mm256_add_pd(n01, n23);
-    six_v = _mm256_fmadd_pd(_mm256_sub_pd(c, origin), total, six_v);
-    add_at(g, f.center, total);
-    add_at(g, f.ring[0], n[0]);
-    add_at(g, f.ring[1], n01);
-    add_at(g, f.ring[2], _mm256_add_pd(n[1], n[2]));
-    add_at(g, f.ring[3], n23);
-    add_at(g, f.ring[4], n[3]);
-  }
-  for (const Triangle& tri : layout.singles) {
-    // Indices into locals: the stores below may alias anything, so the compiler would reload them.
-    const std::uint32_t ia = tri[0], ib = tri[1], ic = tri[2];
-    const __m256d a = load(x[ia]);
-    const __m256d n = cross(_mm256_sub_pd(load(x[ib]), a), _mm256_sub_pd(load(x[ic]), a));
-    six_v = _mm256_fmadd_pd(_mm256_sub_pd(a, origin), n, six_v);
-    store(g[ia], _mm256_add_pd(load(g[ia]), n));
-    store(g[ib], _mm256_add_pd(load(g[ib]), n));
-    store(g[ic], _mm256_add_pd(load(g[ic]), n));
-  }
-  alignas(32) Real lanes[4];
-  _mm256_store_pd(lanes, six_v);
-  return lanes[0] + lanes[1] + lanes[2];
+  return volume_gradient(layout, PaddedLoad{x}, g);
 }
 #endif  // TROCAR_HAVE_X86
 

@@ -1,0 +1,254 @@
+// The explicit step as one sweep over blocks of vertices (explicit_sweep.h): building the blocked
+// layout, and the AVX2 step over ring buffers. The formulas and kernels are explicit_kernels.h's
+// and volume_fans.h's; only the order of the work differs.
+#include "trocar/tissue/explicit_sweep.h"
+
+#include <algorithm>
+#include <string>
+
+#include <unistd.h>
+
+#include "trocar/core/cpu_features.h"
+#include "trocar/core/error.h"
+#include "trocar/tissue/avx2.h"
+
+namespace trocar::tissue_detail {
+namespace {
+
+constexpr std::uint32_t kStride = sizeof(Padded3);
+
+std::uint32_t lowest(const SpringQuad& q) {
+  std::uint32_t m = q.i[0];
+  for (int k = 0; k < 4; ++k) m = std::min({m, q.i[k], q.j[k]});
+  return m / kStride;
+}
+std::uint32_t highest(const SpringQuad& q) {
+  std::uint32_t m = q.i[0];
+  for (int k = 0; k < 4; ++k) m = std::max({m, q.i[k], q.j[k]});
+  return m / kStride;
+}
+
+/// `items` regrouped by the block of their lowest vertex (stable within a block); `ends[b]` is
+/// where block b's items end, and `reach[b]` grows to 1 + their highest vertex.
+template <class Item>
+std::vector<Item> by_block(const std::vector<Item>& items, std::size_t block, std::size_t blocks,
+                           std::vector<std::uint32_t>& ends, std::vector<std::size_t>& reach) {
+  std::vector<std::uint32_t> count(blocks + 1, 0);
+  for (const Item& item : items) ++count[lowest(item) / block + 1];
+  for (std::size_t b = 0; b < blocks; ++b) count[b + 1] += count[b];
+  ends.assign(count.begin() + 1, count.end());
+  std::vector<Item> out(items.size());
+  for (const Item& item : items) {
+    const std::size_t b = lowest(item) / block;
+    out[count[b]++] = item;
+    reach[b] = std::max<std::size_t>(reach[b], highest(item) + 1);
+  }
+  return out;
+}
+
+/// The leftover springs of make_spring_layout's ordinary quads (null lanes, i = j, dropped:
+/// their force is exactly zero), in quads per block of their lower vertex; each block's last
+/// quad is completed with null springs at the block's first vertex.
+std::vector<SpringQuad> leftover_quads_by_block(const std::vector<SpringQuad>& others, std::size_t block,
+                                                std::size_t blocks, std::vector<std::uint32_t>& ends,
+                                                std::vector<std::size_t>& reach) {
+  std::vector<std::vector<Spring>> springs(blocks);
+  for (const SpringQuad& q : others)
+    for (int k = 0; k < 4; ++k) {
+      if (q.i[k] == q.j[k]) continue;
+      const std::uint32_t i = q.i[k] / kStride, j = q.j[k] / kStride;
+      const std::size_t b = std::min(i, j) / block;
+      springs[b].push_back({i, j, q.rest_length[k], q.stiffness[k], q.damping[k]});
+      reach[b] = std::max<std::size_t>(reach[b], std::max(i, j) + 1);
+    }
+  std::vector<SpringQuad> out;
+  ends.resize(blocks);
+  for (std::size_t b = 0; b < blocks; ++b) {
+    const auto first = static_cast<std::uint32_t>(b * block * kStride);
+    for (std::size_t e = 0; e < springs[b].size(); e += 4) {
+      SpringQuad& q = out.emplace_back();
+      for (std::size_t k = 0; k < 4; ++k) {
+        q.i[k] = q.j[k] = first;
+        if (e + k >= springs[b].size()) continue;
+        const Spring& sp = springs[b][e + k];
+        q.i[k] = sp.i * kStride;
+        q.j[k] = sp.j * kStride;
+        q.rest_length[k] = sp.rest_length;
+        q.stiffness[k] = sp.stiffness;
+        q.damping[k] = sp.damping;
+      }
+    }
+    ends[b] = static_cast<std::uint32_t>(out.size());
+  }
+  return out;
+}
+
+/// Vertex offsets (index × 32) or indices → ring slots (index mod W).
+std::uint32_t slot_offset(std::uint32_t offset, std::size_t window) {
+  return static_cast<std::uint32_t>(offset / kStride % window * kStride);
+}
+void to_slots(SpringQuad& q, std::size_t window) {
+  for (int k = 0; k < 4; ++k) {
+    q.i[k] = slot_offset(q.i[k], window);
+    q.j[k] = slot_offset(q.j[k], window);
+  }
+}
+#ifdef TROCAR_HAVE_X86
+using namespace avx2;
+
+/// The per-step constants of the update (explicit_update's, with the terms applied).
+struct UpdateConstants {
+  __m256d gravity, gamma, k_home, pressure6, dt;
+  bool volume, home, symplectic;
+};
+
+TROCAR_AVX2 Real sweep_avx2(SweepPlan& p, const MassSpringSettings& s, Vec3* x, Vec3* v, const TissueLoads& loads,
+                            const ForceTerms& terms, Real dt, bool symplectic) {
+  const std::size_t n = p.vertex_count, window = p.window;
+  Padded3* rx = p.ring[0].data();
+  Padded3* rv = p.ring[1].data();
+  Padded3* rf = p.ring[2].data();
+  Padded3* g = p.gradient[0].data();
+
+  UpdateConstants c;
+  c.volume = volume_term_on(s, terms) && !(p.volume.fans.empty() && p.volume.singles.empty());
+  Real pressure6 = 0;
+  if (c.volume) {  // −κ_V (V − V0)/6, as the pass-by-pass step
+    const Real six_v = volume_gradient(p.volume, StateLoad{x}, g);
+    pressure6 = -s.k_volume / s.rest_volume * (six_v / 6.0 - s.rest_volume) / 6.0;
+  }
+  const Vec3 gravity = terms.gravity ? s.gravity : Vec3::Zero();
+  const Real k_home = terms.home ? s.k_home : 0.0;
+  c.gravity = _mm256_setr_pd(gravity[0], gravity[1], gravity[2], 0);
+  c.gamma = _mm256_set1_pd(terms.global_damping ? s.damping : 0.0);
+  c.k_home = _mm256_set1_pd(k_home);
+  c.home = k_home != 0;
+  c.pressure6 = _mm256_set1_pd(pressure6);
+  c.dt = _mm256_set1_pd(dt);
+  c.symplectic = symplectic;
+
+  // The loaded vertices in order, so each block adds the forces of the vertices it copies.
+  const std::span<const Vec3> external = loads.forces();
+  p.loaded.clear();
+  if (external.size() == n) {
+    p.loaded.insert(p.loaded.end(), loads.loaded_vertices().begin(), loads.loaded_vertices().end());
+    std::sort(p.loaded.begin(), p.loaded.end());
+  }
+
+  const Real* mass = s.masses.data();
+  const Real* inverse_mass = s.inverse_masses.data();
+  const Vec3* rest = s.rest_positions.data();
+  const __m256d zero = _mm256_setzero_pd();
+  __m256d check = zero;
+  std::size_t copied = 0, copy_slot = 0, update_slot = 0, next_load = 0;
+  std::uint32_t stars = 0, others = 0;
+  for (std::size_t b = 0; b < p.blocks.size(); ++b) {
+    const SweepPlan::Block& block = p.blocks[b];
+    for (; copied < block.copy_end; ++copied) {
+      store(rx[copy_slot], load3(x[copied]));
+      store(rv[copy_slot], load3(v[copied]));
+      store(rf[copy_slot], zero);
+      if (++copy_slot == window) copy_slot = 0;
+    }
+    for (; next_load < p.loaded.size() && p.loaded[next_load] < copied; ++next_load) {
+      const std::uint32_t i = p.loaded[next_load];
+      Padded3& f = rf[i % window];
+      f.x += external[i].x();
+      f.y += external[i].y();
+      f.z += external[i].z();
+    }
+    if (terms.springs) {
+      add_quad_spring_forces<true>(p.stars.data() + stars, block.stars_end - stars, rx, rv, rf);
+      add_quad_spring_forces<false>(p.others.data() + others, block.others_end - others, rx, rv, rf);
+    }
+    stars = block.stars_end;
+    others = block.others_end;
+
+    // Block b's vertices have all their forces now: update them (explicit_update's formula).
+    const std::size_t end = std::min(n, (b + 1) * p.block);
+    for (std::size_t i = b * p.block; i < end; ++i) {
+      const std::size_t k = update_slot;
+      if (++update_slot == window) update_slot = 0;
+      const __m256d xi = load(rx[k]), vi = load(rv[k]);
+      __m256d f = load(rf[k]);
+      if (c.volume) {
+        f = _mm256_fmadd_pd(c.pressure6, load(g[i]), f);
+        store(g[i], zero);
+      }
+      f = _mm256_fmadd_pd(_mm256_set1_pd(mass[i]), _mm256_fnmadd_pd(c.gamma, vi, c.gravity), f);
+      if (c.home) f = _mm256_fnmadd_pd(c.k_home, _mm256_sub_pd(xi, load3(rest[i])), f);
+      const __m256d v1 = _mm256_fmadd_pd(_mm256_mul_pd(c.dt, _mm256_set1_pd(inverse_mass[i])), f, vi);
+      const __m256d x1 = _mm256_fmadd_pd(c.dt, c.symplectic ? v1 : vi, xi);
+      store3(v[i], v1);
+      store3(x[i], x1);
+      check = _mm256_add_pd(check, _mm256_add_pd(x1, v1));
+    }
+  }
+  alignas(32) Real lanes[4];
+  _mm256_store_pd(lanes, check);
+  return lanes[0] + lanes[1] + lanes[2];
+}
+#endif  // TROCAR_HAVE_X86
+
+}  // namespace
+
+std::size_t pass_by_pass_bytes(const MassSpringSettings& s) {
+  // Per vertex: x, v, forces, Σ n_t and rest padded (5 × 32), the state's x and v (2 × 24), m and
+  // 1/m (16); per spring 32 (SpringQuad); per triangle 6 (a fan is 24 bytes for four).
+  return s.vertex_count() * (5 * sizeof(Padded3) + 2 * sizeof(Vec3) + 2 * sizeof(Real)) +
+         s.springs.size() * sizeof(Spring) + s.triangles.size() * sizeof(TriangleFan) / 4;
+}
+
+bool sweep_pays(const MassSpringSettings& s) {
+  long l2 = -1;
+#ifdef _SC_LEVEL2_CACHE_SIZE
+  l2 = sysconf(_SC_LEVEL2_CACHE_SIZE);
+#endif
+  const std::size_t cache = l2 > 0 ? static_cast<std::size_t>(l2) : std::size_t{1} << 20;
+  return pass_by_pass_bytes(s) > cache;
+}
+
+ExplicitSweep::ExplicitSweep(const MassSpringSettings& s, std::size_t block) {
+  if (block == 0) throw Error("tissue: the sweep's block size must be > 0");
+  const std::size_t n = s.vertex_count();
+  SweepPlan& p = plan_;
+  p.block = block;
+  p.vertex_count = n;
+  const std::size_t blocks = (n + block - 1) / block;
+  const SpringLayout springs = make_spring_layout(s.springs, n, &s.fixed);
+  if (s.closed && s.k_volume > 0) p.volume = make_volume_layout(s.triangles, n);
+
+  // reach[b]: 1 + the highest vertex block b's items touch, at least the block's own end.
+  std::vector<std::size_t> reach(blocks);
+  for (std::size_t b = 0; b < blocks; ++b) reach[b] = std::min(n, (b + 1) * block);
+  std::vector<std::uint32_t> stars_end, others_end;
+  p.stars = by_block(springs.stars, block, blocks, stars_end, reach);
+  p.others = leftover_quads_by_block(springs.others, block, blocks, others_end, reach);
+
+  // The copies run ahead to each block's reach; W is the most vertices live at once (copied,
+  // not yet updated), so slot i mod W is free again by the time vertex i + W is copied.
+  p.blocks.resize(blocks);
+  std::size_t copy_end = 0;
+  p.window = 1;
+  for (std::size_t b = 0; b < blocks; ++b) {
+    copy_end = std::max(copy_end, reach[b]);
+    p.window = std::max(p.window, copy_end - b * block);
+    p.blocks[b] = {stars_end[b], others_end[b], static_cast<std::uint32_t>(copy_end)};
+  }
+  for (SpringQuad& q : p.stars) to_slots(q, p.window);
+  for (SpringQuad& q : p.others) to_slots(q, p.window);
+    p.ring.allocate(p.window, 3);
+  p.gradient.allocate(p.volume.fans.empty() && p.volume.singles.empty() ? 0 : n, 1);
+  p.loaded.reserve(n);
+}
+
+Real ExplicitSweep::step(const MassSpringSettings& s, Vec3* x, Vec3* v, const TissueLoads& loads,
+                         const ForceTerms& terms, Real dt, bool symplectic) {
+#ifdef TROCAR_HAVE_X86
+  if (cpu_has_avx2_fma()) return sweep_avx2(plan_, s, x, v, loads, terms, dt, symplectic);
+#endif
+  (void)s, (void)x, (void)v, (void)loads, (void)terms, (void)dt, (void)symplectic;
+  throw Error("tissue: the explicit sweep needs a CPU with AVX2 and FMA");
+}
+
+}  // namespace trocar::tissue_detail
