@@ -72,52 +72,72 @@ TissueLoads shuffled_loads(std::size_t n) {
 
 TriMesh banded(TriMesh mesh) { return renumber_vertices(mesh, locality_vertex_order(mesh)); }
 
-// One step of the sweep against accumulate_forces, v1 = v + h (f + f_ext)/m, x1 = x + h v1 (or v),
-// in the generator's order (the window is all of the mesh) and in a banded order with blocks of 8
-// (the window is a fraction of it, so the slots wrap around).
+/// One step of `sweep` against accumulate_forces: v1 = v + h (f + f_ext)/m, x1 = x + h v1 (or v),
+/// for both explicit integrators; also the returned Σ of the coordinates.
+void expect_step_matches_accumulate_forces(const MassSpringSettings& s, ExplicitSweep& sweep, const std::string& label) {
+  const std::size_t n = s.vertex_count();
+  const MassSpringState start = moving_start(s, 0.04);
+  const TissueLoads loads = shuffled_loads(n);
+  std::vector<Vec3> f(n, Vec3::Zero());
+  accumulate_forces(s, start.positions, start.velocities, f);
+  const Real h = 1e-4;
+  Real largest_speed_change = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    largest_speed_change = std::max(largest_speed_change, (h * s.inverse_masses[i] * (f[i] + loads.forces()[i])).norm());
+  ASSERT_GT(largest_speed_change, 1e-4);
+  for (const bool symplectic : {false, true}) {
+    MassSpringState st = start;
+    for (std::size_t i = 0; i < n; ++i)
+      if (s.fixed[i]) st.velocities[i].setZero();  // as the integrator does before a step
+    const Real check = sweep.step(s, st.positions.data(), st.velocities.data(), loads, ForceTerms{}, h, symplectic);
+    Real worst_v = 0, worst_x = 0, sum = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const Vec3 v0 = s.fixed[i] ? Vec3::Zero() : start.velocities[i];
+      const Vec3 v1 = v0 + h * s.inverse_masses[i] * (f[i] + loads.forces()[i]);
+      const Vec3 x1 = start.positions[i] + h * (symplectic ? v1 : v0);
+      worst_v = std::max(worst_v, (st.velocities[i] - v1).norm());
+      worst_x = std::max(worst_x, (st.positions[i] - x1).norm());
+      sum += st.positions[i].sum() + st.velocities[i].sum();
+    }
+    std::cout << "[ figures  ] sweep, " << label << ", window " << sweep.window() << " of " << n
+              << (symplectic ? ", semi-implicit" : ", explicit") << ": |Δv| " << worst_v
+              << " m/s (speed changes up to " << largest_speed_change << "), |Δx| " << worst_x << " m\n";
+    EXPECT_LT(worst_v, 1e-12 * largest_speed_change);
+    EXPECT_LT(worst_x, 1e-15);
+    EXPECT_NEAR(check, sum, 1e-12 * std::abs(sum));
+  }
+}
+
+// In the generator's order (the window is nearly all of the mesh) and in a banded order with
+// blocks of 8 (the window is a fraction of it, so the slots wrap around).
 TEST(ExplicitSweep, OneStepMatchesAccumulateForces) {
   if (!cpu_has_avx2_fma()) GTEST_SKIP() << "the sweep needs AVX2 and FMA";
   for (const bool band : {false, true}) {
     const TriMesh sphere = make_icosphere(0.02, 3);
     const MassSpringSettings s = sweep_settings(band ? banded(sphere) : sphere);
     ASSERT_TRUE(s.closed);
-    const std::size_t n = s.vertex_count();
     ExplicitSweep sweep(s, 8);
     if (band) {
-      EXPECT_LT(sweep.window(), n / 4) << "the ring must wrap around";
+      EXPECT_LT(sweep.window(), s.vertex_count() / 4) << "the ring must wrap around";
     }
-    EXPECT_LE(sweep.window(), n);
-    const MassSpringState start = moving_start(s, 0.04);
-    const TissueLoads loads = shuffled_loads(n);
-    std::vector<Vec3> f(n, Vec3::Zero());
-    accumulate_forces(s, start.positions, start.velocities, f);
-    const Real h = 1e-4;
-    Real largest_speed_change = 0;
-    for (std::size_t i = 0; i < n; ++i)
-      largest_speed_change = std::max(largest_speed_change, (h * s.inverse_masses[i] * (f[i] + loads.forces()[i])).norm());
-    ASSERT_GT(largest_speed_change, 1e-4);
-    for (const bool symplectic : {false, true}) {
-      MassSpringState st = start;
-      for (std::size_t i = 0; i < n; ++i)
-        if (s.fixed[i]) st.velocities[i].setZero();  // as the integrator does before a step
-      const Real check = sweep.step(s, st.positions.data(), st.velocities.data(), loads, ForceTerms{}, h, symplectic);
-      Real worst_v = 0, worst_x = 0, sum = 0;
-      for (std::size_t i = 0; i < n; ++i) {
-        const Vec3 v0 = s.fixed[i] ? Vec3::Zero() : start.velocities[i];
-        const Vec3 v1 = v0 + h * s.inverse_masses[i] * (f[i] + loads.forces()[i]);
-        const Vec3 x1 = start.positions[i] + h * (symplectic ? v1 : v0);
-        worst_v = std::max(worst_v, (st.velocities[i] - v1).norm());
-        worst_x = std::max(worst_x, (st.positions[i] - x1).norm());
-        sum += st.positions[i].sum() + st.velocities[i].sum();
-      }
-      std::cout << "[ figures  ] sweep, " << (band ? "banded, window " : "generator order, window ") << sweep.window()
-                << " of " << n << (symplectic ? ", semi-implicit" : ", explicit") << ": |Δv| " << worst_v
-                << " m/s (speed changes up to " << largest_speed_change << "), |Δx| " << worst_x << " m\n";
-      EXPECT_LT(worst_v, 1e-12 * largest_speed_change);
-      EXPECT_LT(worst_x, 1e-15);
-      EXPECT_NEAR(check, sum, 1e-12 * std::abs(sum));
-    }
+    EXPECT_LE(sweep.window(), s.vertex_count());
+    // Structural and bending springs: two (k, λ) classes, so the stars are one cache line each.
+    EXPECT_TRUE(sweep.plan().stars.empty());
+    EXPECT_GT(sweep.plan().compact_stars.size(), s.springs.size() / 8);
+    expect_step_matches_accumulate_forces(s, sweep, band ? "banded" : "generator order");
   }
+}
+
+// Springs of more than two (k, λ) classes (edited settings) keep the 128-byte star quads, with
+// each spring's own parameters.
+TEST(ExplicitSweep, ThreeSpringClassesKeepFullQuads) {
+  if (!cpu_has_avx2_fma()) GTEST_SKIP() << "the sweep needs AVX2 and FMA";
+  MassSpringSettings s = sweep_settings(banded(make_icosphere(0.02, 3)));
+  for (std::size_t e = 0; e < s.springs.size(); e += 3) s.springs[e].stiffness *= 1.5;
+  ExplicitSweep sweep(s, 8);
+  EXPECT_TRUE(sweep.plan().compact_stars.empty());
+  EXPECT_GT(sweep.plan().stars.size(), s.springs.size() / 8);
+  expect_step_matches_accumulate_forces(s, sweep, "three classes");
 }
 
 // The integrator with the sweep on and off, 200 semi-implicit steps on the shared liver: the two

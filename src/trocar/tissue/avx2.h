@@ -80,8 +80,8 @@ struct QuadGeometry {
   __m256d d[4], w[4];
   __m256d length2, speed, inverse_length;
 };
-template <bool kStar>
-TROCAR_AVX2 inline QuadGeometry quad_geometry(const SpringQuad& s, const Padded3* x, const Padded3* v) {
+template <bool kStar, class Quad>
+TROCAR_AVX2 inline QuadGeometry quad_geometry(const Quad& s, const Padded3* x, const Padded3* v) {
   QuadGeometry g;
   if constexpr (kStar) {
     const __m256d xi = load_at(x, s.i[0]), vi = load_at(v, s.i[0]);
@@ -168,22 +168,35 @@ TROCAR_AVX2 inline Real volume_gradient(const VolumeLayout& layout, Load vertex,
   return lanes[0] + lanes[1] + lanes[2];
 }
 
-/// f += the spring forces of `count` quads (eq. 3.2; forces.cpp's spring_forces), lane by lane.
+/// Four springs' rest lengths, stiffnesses and dampings, lane by lane.
+struct QuadParameters {
+  __m256d rest_length, stiffness, damping;
+};
+/// A SpringQuad's own parameters.
+struct OwnParameters {
+  TROCAR_AVX2 QuadParameters operator()(const SpringQuad& s) const {
+    return {_mm256_load_pd(s.rest_length), _mm256_load_pd(s.stiffness), _mm256_load_pd(s.damping)};
+  }
+};
+
+/// f += the spring forces of `count` quads (eq. 3.2; forces.cpp's spring_forces), lane by lane;
+/// `parameters(quad)` gives their rest lengths, stiffnesses and dampings.
 /// kStar: the quad's four springs share their first vertex (SpringLayout::stars), so x_i and v_i
 /// are loaded once and f_i gets one read-modify-write of the four forces' sum.
-template <bool kStar>
-TROCAR_AVX2 inline void add_quad_spring_forces(const SpringQuad* quads, std::size_t count, const Padded3* x,
-                                               const Padded3* v, Padded3* f) {
+template <bool kStar, class Quad, class Parameters>
+TROCAR_AVX2 inline void add_quad_spring_forces(const Quad* quads, std::size_t count, Parameters parameters,
+                                               const Padded3* x, const Padded3* v, Padded3* f) {
   for (std::size_t q = 0; q < count; ++q) {
-    const SpringQuad& s = quads[q];
+    const Quad& s = quads[q];
     const QuadGeometry g = quad_geometry<kStar>(s, x, v);
+    const QuadParameters p = parameters(s);
     const __m256d* d = g.d;
     const __m256d len2 = g.length2, speed = g.speed, inv = g.inverse_length;
     // σ = k (|d| − l)/|d| + λ (Δv·d)/|d|²; f_i = σ d, f_j = −σ d.
-    const __m256d stretch = _mm256_sub_pd(_mm256_mul_pd(len2, inv), _mm256_load_pd(s.rest_length));
-    const __m256d damping = _mm256_mul_pd(_mm256_mul_pd(_mm256_load_pd(s.damping), speed), _mm256_mul_pd(inv, inv));
+    const __m256d stretch = _mm256_sub_pd(_mm256_mul_pd(len2, inv), p.rest_length);
+    const __m256d damping = _mm256_mul_pd(_mm256_mul_pd(p.damping, speed), _mm256_mul_pd(inv, inv));
     alignas(32) Real sigma[4];
-    _mm256_store_pd(sigma, _mm256_fmadd_pd(_mm256_mul_pd(_mm256_load_pd(s.stiffness), stretch), inv, damping));
+    _mm256_store_pd(sigma, _mm256_fmadd_pd(_mm256_mul_pd(p.stiffness, stretch), inv, damping));
     __m256d sum = _mm256_setzero_pd();
     for (int k = 0; k < 4; ++k) {
       const __m256d fk = _mm256_mul_pd(_mm256_broadcast_sd(&sigma[k]), d[k]);

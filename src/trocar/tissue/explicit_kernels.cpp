@@ -256,8 +256,8 @@ void copy_padded(const Vec3* p, std::size_t n, Padded3* out) {
 void add_spring_forces(const SpringLayout& layout, const Padded3* x, const Padded3* v, Padded3* f, bool use_avx2) {
 #ifdef TROCAR_HAVE_X86
   if (use_avx2) {
-    add_quad_spring_forces<true>(layout.stars.data(), layout.stars.size(), x, v, f);
-    add_quad_spring_forces<false>(layout.others.data(), layout.others.size(), x, v, f);
+    add_quad_spring_forces<true>(layout.stars.data(), layout.stars.size(), OwnParameters{}, x, v, f);
+    add_quad_spring_forces<false>(layout.others.data(), layout.others.size(), OwnParameters{}, x, v, f);
     return;
   }
 #endif

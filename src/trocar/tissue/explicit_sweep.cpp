@@ -93,8 +93,53 @@ void to_slots(SpringQuad& q, std::size_t window) {
     q.j[k] = slot_offset(q.j[k], window);
   }
 }
+/// The stars as StarQuads when all their springs have one of at most two (k, λ) classes (then
+/// the plan's tables are filled and `stars` emptied); otherwise nothing changes.
+void compact_stars(SweepPlan& p) {
+  Real k[2] = {}, lambda[2] = {};
+  int classes = 0;
+  const auto class_of = [&](Real stiffness, Real damping) {
+    for (int c = 0; c < classes; ++c)
+      if (k[c] == stiffness && lambda[c] == damping) return c;
+    if (classes == 2) return -1;
+    k[classes] = stiffness;
+    lambda[classes] = damping;
+    return classes++;
+  };
+  std::vector<StarQuad> compact(p.stars.size());
+  for (std::size_t q = 0; q < p.stars.size(); ++q) {
+    const SpringQuad& s = p.stars[q];
+    StarQuad& c = compact[q];
+    c.i[0] = s.i[0];
+    for (int lane = 0; lane < 4; ++lane) {
+      const int cls = class_of(s.stiffness[lane], s.damping[lane]);
+      if (cls < 0) return;  // three classes or more: keep the SpringQuads
+      c.classes |= static_cast<std::uint32_t>(cls) << lane;
+      c.j[lane] = s.j[lane];
+      c.rest_length[lane] = s.rest_length[lane];
+    }
+  }
+  for (int mask = 0; mask < 16; ++mask)
+    for (int lane = 0; lane < 4; ++lane) {
+      p.class_stiffness[mask][lane] = k[(mask >> lane) & 1];
+      p.class_damping[mask][lane] = lambda[(mask >> lane) & 1];
+    }
+  p.compact_stars = std::move(compact);
+  p.stars.clear();
+  p.stars.shrink_to_fit();
+}
+
 #ifdef TROCAR_HAVE_X86
 using namespace avx2;
+
+/// A StarQuad's parameters: its rest lengths, and its classes' row of the plan's tables.
+struct ClassParameters {
+  const SweepPlan* plan;
+  TROCAR_AVX2 QuadParameters operator()(const StarQuad& s) const {
+    return {_mm256_load_pd(s.rest_length), _mm256_load_pd(plan->class_stiffness[s.classes]),
+            _mm256_load_pd(plan->class_damping[s.classes])};
+  }
+};
 
 /// The per-step constants of the update (explicit_update's, with the terms applied).
 struct UpdateConstants {
@@ -158,8 +203,12 @@ TROCAR_AVX2 Real sweep_avx2(SweepPlan& p, const MassSpringSettings& s, Vec3* x, 
       f.z += external[i].z();
     }
     if (terms.springs) {
-      add_quad_spring_forces<true>(p.stars.data() + stars, block.stars_end - stars, rx, rv, rf);
-      add_quad_spring_forces<false>(p.others.data() + others, block.others_end - others, rx, rv, rf);
+      if (p.stars.empty())
+        add_quad_spring_forces<true>(p.compact_stars.data() + stars, block.stars_end - stars, ClassParameters{&p}, rx,
+                                     rv, rf);
+      else
+        add_quad_spring_forces<true>(p.stars.data() + stars, block.stars_end - stars, OwnParameters{}, rx, rv, rf);
+      add_quad_spring_forces<false>(p.others.data() + others, block.others_end - others, OwnParameters{}, rx, rv, rf);
     }
     stars = block.stars_end;
     others = block.others_end;
@@ -237,6 +286,7 @@ ExplicitSweep::ExplicitSweep(const MassSpringSettings& s, std::size_t block) {
   }
   for (SpringQuad& q : p.stars) to_slots(q, p.window);
   for (SpringQuad& q : p.others) to_slots(q, p.window);
+  compact_stars(p);
     p.ring.allocate(p.window, 3);
   p.gradient.allocate(p.volume.fans.empty() && p.volume.singles.empty() ? 0 : n, 1);
   p.loaded.reserve(n);

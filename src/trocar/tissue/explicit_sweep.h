@@ -35,6 +35,17 @@
 
 namespace trocar::tissue_detail {
 
+/// A star quad (four springs sharing their first vertex) in one cache line, for springs of at
+/// most two (k, λ) classes, as MassSpringSettings::build makes them (structural and bending):
+/// lane k's class is bit k of `classes`, and the stiffnesses and dampings are looked up in the
+/// plan's tables. SpringQuad takes 128 bytes for the same springs.
+struct alignas(64) StarQuad {
+  std::uint32_t i[1] = {};    ///< the shared first vertex (slot × 32)
+  std::uint32_t classes = 0;  ///< bit k: lane k's spring is of class 1
+  std::uint32_t j[4] = {};    ///< second vertices (slots × 32)
+  Real rest_length[4] = {};
+};
+
 /// The blocked layout (built once) and the ring buffers (scratch of every step).
 struct SweepPlan {
   /// Where block b's items end in each list, and the vertex the copies reach before it runs.
@@ -42,7 +53,10 @@ struct SweepPlan {
     std::uint32_t stars_end, others_end, copy_end;
   };
   std::size_t block = 0, window = 0, vertex_count = 0;
-  std::vector<SpringQuad> stars, others;  ///< offsets are slots × 32
+  std::vector<SpringQuad> stars, others;  ///< offsets are slots × 32 (stars empty when compact)
+  std::vector<StarQuad> compact_stars;    ///< the stars when their springs have ≤ 2 classes
+  /// Per classes mask (0–15), the four lanes' stiffness and damping (compact stars).
+  alignas(32) Real class_stiffness[16][4] = {}, class_damping[16][4] = {};
   std::vector<Block> blocks;
   VolumeLayout volume;    ///< in vertex offsets (empty: the mesh has no volume term)
   PaddedArrays ring;      ///< x, v, f: W slots each
