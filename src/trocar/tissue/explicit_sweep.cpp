@@ -11,77 +11,12 @@
 #include "trocar/core/cpu_features.h"
 #include "trocar/core/error.h"
 #include "trocar/tissue/avx2.h"
+#include "trocar/tissue/spring_blocks.h"
 
 namespace trocar::tissue_detail {
 namespace {
 
 constexpr std::uint32_t kStride = sizeof(Padded3);
-
-std::uint32_t lowest(const SpringQuad& q) {
-  std::uint32_t m = q.i[0];
-  for (int k = 0; k < 4; ++k) m = std::min({m, q.i[k], q.j[k]});
-  return m / kStride;
-}
-std::uint32_t highest(const SpringQuad& q) {
-  std::uint32_t m = q.i[0];
-  for (int k = 0; k < 4; ++k) m = std::max({m, q.i[k], q.j[k]});
-  return m / kStride;
-}
-
-/// `items` regrouped by the block of their lowest vertex (stable within a block); `ends[b]` is
-/// where block b's items end, and `reach[b]` grows to 1 + their highest vertex.
-template <class Item>
-std::vector<Item> by_block(const std::vector<Item>& items, std::size_t block, std::size_t blocks,
-                           std::vector<std::uint32_t>& ends, std::vector<std::size_t>& reach) {
-  std::vector<std::uint32_t> count(blocks + 1, 0);
-  for (const Item& item : items) ++count[lowest(item) / block + 1];
-  for (std::size_t b = 0; b < blocks; ++b) count[b + 1] += count[b];
-  ends.assign(count.begin() + 1, count.end());
-  std::vector<Item> out(items.size());
-  for (const Item& item : items) {
-    const std::size_t b = lowest(item) / block;
-    out[count[b]++] = item;
-    reach[b] = std::max<std::size_t>(reach[b], highest(item) + 1);
-  }
-  return out;
-}
-
-/// The leftover springs of make_spring_layout's ordinary quads (null lanes, i = j, dropped:
-/// their force is exactly zero), in quads per block of their lower vertex; each block's last
-/// quad is completed with null springs at the block's first vertex.
-std::vector<SpringQuad> leftover_quads_by_block(const std::vector<SpringQuad>& others, std::size_t block,
-                                                std::size_t blocks, std::vector<std::uint32_t>& ends,
-                                                std::vector<std::size_t>& reach) {
-  std::vector<std::vector<Spring>> springs(blocks);
-  for (const SpringQuad& q : others)
-    for (int k = 0; k < 4; ++k) {
-      if (q.i[k] == q.j[k]) continue;
-      const std::uint32_t i = q.i[k] / kStride, j = q.j[k] / kStride;
-      const std::size_t b = std::min(i, j) / block;
-      springs[b].push_back({i, j, q.rest_length[k], q.stiffness[k], q.damping[k]});
-      reach[b] = std::max<std::size_t>(reach[b], std::max(i, j) + 1);
-    }
-  std::vector<SpringQuad> out;
-  ends.resize(blocks);
-  for (std::size_t b = 0; b < blocks; ++b) {
-    const auto first = static_cast<std::uint32_t>(b * block * kStride);
-    for (std::size_t e = 0; e < springs[b].size(); e += 4) {
-      SpringQuad& q = out.emplace_back();
-      for (std::size_t k = 0; k < 4; ++k) {
-        q.i[k] = q.j[k] = first;
-        if (e + k >= springs[b].size()) continue;
-        const Spring& sp = springs[b][e + k];
-        q.i[k] = sp.i * kStride;
-        q.j[k] = sp.j * kStride;
-        q.rest_length[k] = sp.rest_length;
-        q.stiffness[k] = sp.stiffness;
-        q.damping[k] = sp.damping;
-      }
-    }
-    ends[b] = static_cast<std::uint32_t>(out.size());
-  }
-  return out;
-}
 
 /// Vertex offsets (index × 32) or indices → ring slots (index mod W).
 std::uint32_t slot_offset(std::uint32_t offset, std::size_t window) {
@@ -258,36 +193,28 @@ bool sweep_pays(const MassSpringSettings& s) {
 }
 
 ExplicitSweep::ExplicitSweep(const MassSpringSettings& s, std::size_t block) {
-  if (block == 0) throw Error("tissue: the sweep's block size must be > 0");
   const std::size_t n = s.vertex_count();
   SweepPlan& p = plan_;
   p.block = block;
   p.vertex_count = n;
-  const std::size_t blocks = (n + block - 1) / block;
-  const SpringLayout springs = make_spring_layout(s.springs, n, &s.fixed);
   if (s.closed && s.k_volume > 0) p.volume = make_volume_layout(s.triangles, n);
-
-  // reach[b]: 1 + the highest vertex block b's items touch, at least the block's own end.
-  std::vector<std::size_t> reach(blocks);
-  for (std::size_t b = 0; b < blocks; ++b) reach[b] = std::min(n, (b + 1) * block);
-  std::vector<std::uint32_t> stars_end, others_end;
-  p.stars = by_block(springs.stars, block, blocks, stars_end, reach);
-  p.others = leftover_quads_by_block(springs.others, block, blocks, others_end, reach);
+  BlockedSprings springs = block_springs(make_spring_layout(s.springs, n, &s.fixed), n, block);
+  p.stars = std::move(springs.layout.stars);
+  p.others = std::move(springs.layout.others);
 
   // The copies run ahead to each block's reach; W is the most vertices live at once (copied,
   // not yet updated), so slot i mod W is free again by the time vertex i + W is copied.
+  const std::size_t blocks = springs.reach.size();
   p.blocks.resize(blocks);
-  std::size_t copy_end = 0;
   p.window = 1;
   for (std::size_t b = 0; b < blocks; ++b) {
-    copy_end = std::max(copy_end, reach[b]);
-    p.window = std::max(p.window, copy_end - b * block);
-    p.blocks[b] = {stars_end[b], others_end[b], static_cast<std::uint32_t>(copy_end)};
+    p.window = std::max<std::size_t>(p.window, springs.reach[b] - b * block);
+    p.blocks[b] = {springs.stars_end[b], springs.others_end[b], springs.reach[b]};
   }
   for (SpringQuad& q : p.stars) to_slots(q, p.window);
   for (SpringQuad& q : p.others) to_slots(q, p.window);
   compact_stars(p);
-    p.ring.allocate(p.window, 3);
+  p.ring.allocate(p.window, 3);
   p.gradient.allocate(p.volume.fans.empty() && p.volume.singles.empty() ? 0 : n, 1);
   p.loaded.reserve(n);
 }
