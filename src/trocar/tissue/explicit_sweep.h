@@ -43,8 +43,9 @@ struct alignas(64) StarQuad {
   std::uint32_t i[1] = {};    ///< the shared first vertex (slot × 32)
   std::uint32_t classes = 0;  ///< bit k: lane k's spring is of class 1
   std::uint32_t j[4] = {};    ///< second vertices (slots × 32)
-  Real rest_length[4] = {};
+  alignas(32) Real rest_length[4] = {};  ///< at byte 32: one aligned 256-bit load
 };
+static_assert(sizeof(StarQuad) == 64, "a StarQuad is one cache line");
 
 /// The blocked layout (built once) and the ring buffers (scratch of every step).
 struct SweepPlan {
