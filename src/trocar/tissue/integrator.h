@@ -60,13 +60,13 @@ class MassSpringIntegrator {
   /// scalar passes, e.g. to compare the two; on is ignored where the CPU lacks AVX2/FMA.
   void set_simd(bool on) { use_avx2_ = on && cpu_has_avx2_fma(); }
   bool simd() const { return use_avx2_; }
-  /// Explicit integrators with AVX2: whether the step runs as one sweep over blocks of vertices
+  /// Explicit integrators with AVX2 on: whether the step runs as one sweep over blocks of vertices
   /// (explicit_sweep.h) rather than pass by pass. Default: where the passes' arrays exceed the L2
   /// cache (tissue_detail::sweep_pays). Setting it builds the sweep's layout if needed (it
   /// allocates: not during a step). The two agree to rounding; the area term always runs pass
   /// by pass.
   void set_explicit_sweep(bool on);
-  bool explicit_sweep() const { return sweep_on_ && sweep_ != nullptr; }
+  bool explicit_sweep() const { return use_avx2_ && sweep_on_ && sweep_ != nullptr; }
 
  private:
   StepStats step_explicit(MassSpringState& state, const TissueLoads& loads, Real dt, bool symplectic);
