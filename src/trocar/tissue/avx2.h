@@ -120,6 +120,26 @@ TROCAR_AVX2 inline void fan_normals(__m256d c, const __m256d* r, __m256d* n) {
   for (int k = 0; k < 4; ++k) n[k] = yzx(_mm256_fmsub_pd(e[k], y[k + 1], _mm256_mul_pd(y[k], e[k + 1])));
 }
 
+/// The per-step constants of the explicit update (explicit_kernels.h's explicit_update).
+struct UpdateConstants {
+  __m256d gravity, gamma, k_home, dt;
+  bool symplectic;
+};
+/// One vertex's explicit update: f += m (g − γ v) − k_home (x − x0); v₁ = v + h f / m;
+/// x₁ = x + h (symplectic ? v₁ : v). Writes x₁ and v₁ to the state's vectors and returns x₁ + v₁
+/// (for the step's finiteness check).
+TROCAR_AVX2 inline __m256d explicit_vertex_update(const UpdateConstants& c, __m256d f, __m256d x, __m256d v,
+                                                  __m256d x0, Real mass, Real inverse_mass, Vec3& x_out,
+                                                  Vec3& v_out) {
+  f = _mm256_fmadd_pd(_mm256_set1_pd(mass), _mm256_fnmadd_pd(c.gamma, v, c.gravity), f);
+  f = _mm256_fnmadd_pd(c.k_home, _mm256_sub_pd(x, x0), f);
+  const __m256d v1 = _mm256_fmadd_pd(_mm256_mul_pd(c.dt, _mm256_set1_pd(inverse_mass)), f, v);
+  const __m256d x1 = _mm256_fmadd_pd(c.dt, c.symplectic ? v1 : v, x);
+  store3(v_out, v1);
+  store3(x_out, x1);
+  return _mm256_add_pd(x1, v1);
+}
+
 /// Vertex loads for volume_gradient: from a padded array, or from the state's own Vec3s (the
 /// masked load3). Offsets are index × 32, as the layouts store them.
 struct PaddedLoad {

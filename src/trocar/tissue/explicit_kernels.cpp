@@ -139,27 +139,24 @@ TROCAR_AVX2 Real update_avx2(const MassSpringSettings& s, Vec3* x, Vec3* v, cons
   const Padded3* x0 = in.rest;
   const Real* mass = s.masses.data();
   const Real* inverse_mass = s.inverse_masses.data();
-  const __m256d gravity = _mm256_setr_pd(in.gravity[0], in.gravity[1], in.gravity[2], 0);
-  const __m256d gamma = _mm256_set1_pd(in.gamma), k_home = _mm256_set1_pd(in.k_home);
-  const __m256d pressure6 = _mm256_set1_pd(in.pressure6), dt = _mm256_set1_pd(in.dt);
+  UpdateConstants c;
+  c.gravity = _mm256_setr_pd(in.gravity[0], in.gravity[1], in.gravity[2], 0);
+  c.gamma = _mm256_set1_pd(in.gamma);
+  c.k_home = _mm256_set1_pd(in.k_home);
+  c.dt = _mm256_set1_pd(in.dt);
+  c.symplectic = in.symplectic;
+  const __m256d pressure6 = _mm256_set1_pd(in.pressure6);
   const __m256d zero = _mm256_setzero_pd();
   __m256d check = zero;
   for (std::size_t i = 0; i < n; ++i) {
-    const __m256d xi = load(in.x[i]), vi = load(in.v[i]);
     __m256d f = load(in.pair[i]);
     store(in.pair[i], zero);
     if (in.gradient != nullptr) {
       f = _mm256_fmadd_pd(pressure6, load(in.gradient[i]), f);
       store(in.gradient[i], zero);
     }
-    // f += m (g − γ v) − k_home (x − x0)
-    f = _mm256_fmadd_pd(_mm256_set1_pd(mass[i]), _mm256_fnmadd_pd(gamma, vi, gravity), f);
-    f = _mm256_fnmadd_pd(k_home, _mm256_sub_pd(xi, load(x0[i])), f);
-    const __m256d v1 = _mm256_fmadd_pd(_mm256_mul_pd(dt, _mm256_set1_pd(inverse_mass[i])), f, vi);
-    const __m256d x1 = _mm256_fmadd_pd(dt, in.symplectic ? v1 : vi, xi);
-    store3(v[i], v1);
-    store3(x[i], x1);
-    check = _mm256_add_pd(check, _mm256_add_pd(x1, v1));
+    check = _mm256_add_pd(check, explicit_vertex_update(c, f, load(in.x[i]), load(in.v[i]), load(x0[i]), mass[i],
+                                                        inverse_mass[i], x[i], v[i]));
   }
   alignas(32) Real lanes[4];
   _mm256_store_pd(lanes, check);

@@ -76,12 +76,6 @@ struct ClassParameters {
   }
 };
 
-/// The per-step constants of the update (explicit_update's, with the terms applied).
-struct UpdateConstants {
-  __m256d gravity, gamma, k_home, pressure6, dt;
-  bool volume, home, symplectic;
-};
-
 TROCAR_AVX2 Real sweep_avx2(SweepPlan& p, const MassSpringSettings& s, Vec3* x, Vec3* v, const TissueLoads& loads,
                             const ForceTerms& terms, Real dt, bool symplectic) {
   const std::size_t n = p.vertex_count, window = p.window;
@@ -90,22 +84,22 @@ TROCAR_AVX2 Real sweep_avx2(SweepPlan& p, const MassSpringSettings& s, Vec3* x, 
   Padded3* rf = p.ring[2].data();
   Padded3* g = p.gradient[0].data();
 
-  UpdateConstants c;
-  c.volume = volume_term_on(s, terms) && !(p.volume.fans.empty() && p.volume.singles.empty());
+  const bool volume = volume_term_on(s, terms) && !(p.volume.fans.empty() && p.volume.singles.empty());
   Real pressure6 = 0;
-  if (c.volume) {  // −κ_V (V − V0)/6, as the pass-by-pass step
+  if (volume) {  // −κ_V (V − V0)/6, as the pass-by-pass step
     const Real six_v = volume_gradient(p.volume, StateLoad{x}, g);
     pressure6 = -s.k_volume / s.rest_volume * (six_v / 6.0 - s.rest_volume) / 6.0;
   }
   const Vec3 gravity = terms.gravity ? s.gravity : Vec3::Zero();
   const Real k_home = terms.home ? s.k_home : 0.0;
+  UpdateConstants c;
   c.gravity = _mm256_setr_pd(gravity[0], gravity[1], gravity[2], 0);
   c.gamma = _mm256_set1_pd(terms.global_damping ? s.damping : 0.0);
   c.k_home = _mm256_set1_pd(k_home);
-  c.home = k_home != 0;
-  c.pressure6 = _mm256_set1_pd(pressure6);
   c.dt = _mm256_set1_pd(dt);
   c.symplectic = symplectic;
+  const bool home = k_home != 0;
+  const __m256d pressure = _mm256_set1_pd(pressure6);
 
   // The loaded vertices in order, so each block adds the forces of the vertices it copies.
   const std::span<const Vec3> external = loads.forces();
@@ -153,19 +147,16 @@ TROCAR_AVX2 Real sweep_avx2(SweepPlan& p, const MassSpringSettings& s, Vec3* x, 
     for (std::size_t i = b * p.block; i < end; ++i) {
       const std::size_t k = update_slot;
       if (++update_slot == window) update_slot = 0;
-      const __m256d xi = load(rx[k]), vi = load(rv[k]);
+      const __m256d xi = load(rx[k]);
       __m256d f = load(rf[k]);
-      if (c.volume) {
-        f = _mm256_fmadd_pd(c.pressure6, load(g[i]), f);
+      if (volume) {
+        f = _mm256_fmadd_pd(pressure, load(g[i]), f);
         store(g[i], zero);
       }
-      f = _mm256_fmadd_pd(_mm256_set1_pd(mass[i]), _mm256_fnmadd_pd(c.gamma, vi, c.gravity), f);
-      if (c.home) f = _mm256_fnmadd_pd(c.k_home, _mm256_sub_pd(xi, load3(rest[i])), f);
-      const __m256d v1 = _mm256_fmadd_pd(_mm256_mul_pd(c.dt, _mm256_set1_pd(inverse_mass[i])), f, vi);
-      const __m256d x1 = _mm256_fmadd_pd(c.dt, c.symplectic ? v1 : vi, xi);
-      store3(v[i], v1);
-      store3(x[i], x1);
-      check = _mm256_add_pd(check, _mm256_add_pd(x1, v1));
+      // Without home springs x0 = x, so the k_home term is an exact zero and the rest positions
+      // are not read.
+      const __m256d x0 = home ? load3(rest[i]) : xi;
+      check = _mm256_add_pd(check, explicit_vertex_update(c, f, xi, load(rv[k]), x0, mass[i], inverse_mass[i], x[i], v[i]));
     }
   }
   alignas(32) Real lanes[4];
