@@ -198,6 +198,38 @@ TEST(ExplicitSweep, TermsSwitchOff) {
   }
 }
 
+// Where the sweep is the default and the area term cannot apply, the pass-by-pass arrays are only
+// built when a setter turns the sweep or the AVX2 passes off; the steps then agree to rounding.
+TEST(ExplicitSweep, PassByPassBuiltWhenTurnedOn) {
+  if (!cpu_has_avx2_fma()) GTEST_SKIP() << "the sweep needs AVX2 and FMA";
+  const MassSpringSettings s = sweep_settings(banded(make_icosphere(0.05, 6)));  // 40,962 vertices
+  ASSERT_TRUE(tissue_detail::sweep_pays(s)) << tissue_detail::pass_by_pass_bytes(s) << " bytes";
+  MassSpringIntegrator swept(s, IntegratorKind::kSemiImplicitEuler), passes(s, IntegratorKind::kSemiImplicitEuler),
+      scalar(s, IntegratorKind::kSemiImplicitEuler);
+  ASSERT_TRUE(swept.explicit_sweep());
+  passes.set_explicit_sweep(false);
+  scalar.set_simd(false);
+  ASSERT_FALSE(passes.explicit_sweep());
+  ASSERT_FALSE(scalar.explicit_sweep());
+  const MassSpringState start = moving_start(s, 0.1);
+  MassSpringState a = start, b = start, c = start;
+  const TissueLoads loads = shuffled_loads(s.vertex_count());
+  for (int step = 0; step < 3; ++step) {
+    ASSERT_TRUE(swept.step(a, loads, 1e-4).finite);
+    ASSERT_TRUE(passes.step(b, loads, 1e-4).finite);
+    ASSERT_TRUE(scalar.step(c, loads, 1e-4).finite);
+  }
+  Real motion = 0, worst_passes = 0, worst_scalar = 0;
+  for (std::size_t i = 0; i < s.vertex_count(); ++i) {
+    motion = std::max(motion, (a.positions[i] - start.positions[i]).norm());
+    worst_passes = std::max(worst_passes, (a.positions[i] - b.positions[i]).norm());
+    worst_scalar = std::max(worst_scalar, (a.positions[i] - c.positions[i]).norm());
+  }
+  EXPECT_GT(motion, 1e-6);
+  EXPECT_LT(worst_passes, 1e-12 * motion);
+  EXPECT_LT(worst_scalar, 1e-12 * motion);
+}
+
 TEST(ExplicitSweep, BytesOfThePassesAndBadBlock) {
   // Icosphere of level 1: 42 vertices, 120 edges, 80 triangles, 120 bending springs.
   const MassSpringSettings s = sweep_settings(make_icosphere(0.02, 1));

@@ -41,16 +41,11 @@ MassSpringIntegrator::MassSpringIntegrator(const MassSpringSettings& settings, I
   fixed_positions_.assign(fixed_indices_.size(), Vec3::Zero());
   use_avx2_ = cpu_has_avx2_fma();
   if (kind != IntegratorKind::kImplicitEuler) {
-    padded_.allocate(n, 5);
-    pair_forces_ = padded_[0];
-    padded_volume_gradient_ = padded_[1];
-    padded_positions_ = padded_[2];
-    padded_velocities_ = padded_[3];
-    padded_rest_ = padded_[4];
-    tissue_detail::copy_padded(settings.rest_positions.data(), n, padded_rest_.data());
-    spring_layout_ = tissue_detail::make_spring_layout(settings.springs, n, &settings.fixed);
-    volume_layout_ = tissue_detail::make_volume_layout(settings.triangles, n);
     set_explicit_sweep(tissue_detail::sweep_pays(settings));
+    // The pass-by-pass step's arrays and layouts, unless only the sweep can run: it does while
+    // the AVX2 passes and the sweep stay on and the area term cannot apply (k_area = 0); the
+    // setters build them when they turn either off.
+    if (!explicit_sweep() || settings.k_area > 0) build_passes();
     return;
   }
 
@@ -68,9 +63,30 @@ MassSpringIntegrator::MassSpringIntegrator(const MassSpringSettings& settings, I
   triangle_cache_.resize(settings.triangles.size());
 }
 
+void MassSpringIntegrator::build_passes() {
+  if (kind_ == IntegratorKind::kImplicitEuler || passes_built_) return;
+  const std::size_t n = settings_.vertex_count();
+  padded_.allocate(n, 5);
+  pair_forces_ = padded_[0];
+  padded_volume_gradient_ = padded_[1];
+  padded_positions_ = padded_[2];
+  padded_velocities_ = padded_[3];
+  padded_rest_ = padded_[4];
+  tissue_detail::copy_padded(settings_.rest_positions.data(), n, padded_rest_.data());
+  spring_layout_ = tissue_detail::make_spring_layout(settings_.springs, n, &settings_.fixed);
+  volume_layout_ = tissue_detail::make_volume_layout(settings_.triangles, n);
+  passes_built_ = true;
+}
+
+void MassSpringIntegrator::set_simd(bool on) {
+  use_avx2_ = on && cpu_has_avx2_fma();
+  if (!explicit_sweep()) build_passes();
+}
+
 void MassSpringIntegrator::set_explicit_sweep(bool on) {
   sweep_on_ = on && kind_ != IntegratorKind::kImplicitEuler && cpu_has_avx2_fma();
   if (sweep_on_ && !sweep_) sweep_ = std::make_unique<tissue_detail::ExplicitSweep>(settings_);
+  if (!explicit_sweep()) build_passes();
 }
 
 StepStats MassSpringIntegrator::step(MassSpringState& state, const TissueLoads& loads, Real dt) {
@@ -118,6 +134,7 @@ StepStats MassSpringIntegrator::step_explicit(MassSpringState& state, const Tiss
     end_step(state);
     return stats;
   }
+  assert(passes_built_);
   const std::size_t n = s.vertex_count();
   copy_padded(x, n, padded_positions_.data());
   copy_padded(v, n, padded_velocities_.data());

@@ -58,7 +58,8 @@ class MassSpringIntegrator {
   ForceTerms& terms() { return terms_; }  ///< which force terms are on (all by default)
   /// Whether the AVX2+FMA passes run (default: when the CPU has them). Off forces the portable
   /// scalar passes, e.g. to compare the two; on is ignored where the CPU lacks AVX2/FMA.
-  void set_simd(bool on) { use_avx2_ = on && cpu_has_avx2_fma(); }
+  /// (Turning it off builds the pass-by-pass arrays if they were not: not during a step.)
+  void set_simd(bool on);
   bool simd() const { return use_avx2_; }
   /// Explicit integrators with AVX2 on: whether the step runs as one sweep over blocks of vertices
   /// (explicit_sweep.h) rather than pass by pass. Default: where the passes' arrays exceed the L2
@@ -71,6 +72,8 @@ class MassSpringIntegrator {
  private:
   StepStats step_explicit(MassSpringState& state, const TissueLoads& loads, Real dt, bool symplectic);
   StepStats step_implicit(MassSpringState& state, const TissueLoads& loads, Real dt);
+  /// Allocates the pass-by-pass explicit step's arrays and layouts (once; explicit kinds only).
+  void build_passes();
   /// Restores the fixed vertices' positions bit for bit and zeroes their velocities.
   void end_step(MassSpringState& state) const;
   /// One spring's share of the system matrix A for the current step (see
@@ -120,6 +123,7 @@ class MassSpringIntegrator {
   /// AVX2+FMA and the sweep is on; used unless the area term is on.
   std::unique_ptr<tissue_detail::ExplicitSweep> sweep_;
   bool sweep_on_ = false;
+  bool passes_built_ = false;  ///< build_passes() ran
   /// Implicit: the AVX2 solver (where the CPU has AVX2+FMA), used unless the area term is on.
   std::unique_ptr<tissue_detail::ImplicitAvx2> implicit_avx2_;
   bool use_avx2_ = false;  ///< the CPU has AVX2 + FMA (explicit_kernels.h)
