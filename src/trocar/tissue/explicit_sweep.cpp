@@ -78,7 +78,7 @@ struct ClassParameters {
 
 TROCAR_AVX2 Real sweep_avx2(SweepPlan& p, const MassSpringSettings& s, Vec3* x, Vec3* v, const TissueLoads& loads,
                             const ForceTerms& terms, Real dt, bool symplectic) {
-  const std::size_t n = p.vertex_count, window = p.window;
+  const std::size_t n = s.vertex_count(), window = p.window;
   Padded3* rx = p.ring[0].data();
   Padded3* rv = p.ring[1].data();
   Padded3* rf = p.ring[2].data();
@@ -183,11 +183,10 @@ bool sweep_pays(const MassSpringSettings& s) {
   return pass_by_pass_bytes(s) > cache;
 }
 
-ExplicitSweep::ExplicitSweep(const MassSpringSettings& s, std::size_t block) {
+ExplicitSweep::ExplicitSweep(const MassSpringSettings& s, std::size_t block) : settings_(s) {
   const std::size_t n = s.vertex_count();
   SweepPlan& p = plan_;
   p.block = block;
-  p.vertex_count = n;
   if (s.closed && s.k_volume > 0) p.volume = make_volume_layout(s.triangles, n);
   BlockedSprings springs = block_springs(make_spring_layout(s.springs, n, &s.fixed), n, block);
   p.stars = std::move(springs.layout.stars);
@@ -210,12 +209,12 @@ ExplicitSweep::ExplicitSweep(const MassSpringSettings& s, std::size_t block) {
   p.loaded.reserve(n);
 }
 
-Real ExplicitSweep::step(const MassSpringSettings& s, Vec3* x, Vec3* v, const TissueLoads& loads,
-                         const ForceTerms& terms, Real dt, bool symplectic) {
+Real ExplicitSweep::step(Vec3* x, Vec3* v, const TissueLoads& loads, const ForceTerms& terms, Real dt,
+                         bool symplectic) {
 #ifdef TROCAR_HAVE_X86
-  if (cpu_has_avx2_fma()) return sweep_avx2(plan_, s, x, v, loads, terms, dt, symplectic);
+  if (cpu_has_avx2_fma()) return sweep_avx2(plan_, settings_, x, v, loads, terms, dt, symplectic);
 #endif
-  (void)s, (void)x, (void)v, (void)loads, (void)terms, (void)dt, (void)symplectic;
+  (void)x, (void)v, (void)loads, (void)terms, (void)dt, (void)symplectic;
   throw Error("tissue: the explicit sweep needs a CPU with AVX2 and FMA");
 }
 

@@ -53,7 +53,7 @@ struct SweepPlan {
   struct Block {
     std::uint32_t stars_end, others_end, copy_end;
   };
-  std::size_t block = 0, window = 0, vertex_count = 0;
+  std::size_t block = 0, window = 0;
   std::vector<SpringQuad> stars, others;  ///< offsets are slots × 32 (stars empty when compact)
   std::vector<StarQuad> compact_stars;    ///< the stars when their springs have ≤ 2 classes
   /// Per classes mask (0–15), the four lanes' stiffness and damping (compact stars).
@@ -80,21 +80,22 @@ class ExplicitSweep {
   static constexpr std::size_t kDefaultBlock = 256;
 
   /// The layouts of `s` (springs between two fixed vertices left out, as make_spring_layout)
-  /// cut into blocks of `block` vertices. Throws trocar::Error as the layouts do, or for block 0.
+  /// cut into blocks of `block` vertices. Keeps a reference to `s`, which must outlive the sweep
+  /// (as MassSpringIntegrator's). Throws trocar::Error as the layouts do, or for block 0.
   explicit ExplicitSweep(const MassSpringSettings& s, std::size_t block = kDefaultBlock);
 
   /// One explicit step of x, v (the state's arrays, V each) with the terms of `terms` except the
   /// area term: v₁ = v + h M⁻¹ (f(x, v) + the loads' forces), x₁ = x + h (symplectic ? v₁ : v),
   /// as explicit_update after the passes. Returns Σ of every coordinate of x₁ and v₁. Only
   /// where the CPU has AVX2+FMA (cpu_has_avx2_fma()); never allocates.
-  Real step(const MassSpringSettings& s, Vec3* x, Vec3* v, const TissueLoads& loads, const ForceTerms& terms, Real dt,
-            bool symplectic);
+  Real step(Vec3* x, Vec3* v, const TissueLoads& loads, const ForceTerms& terms, Real dt, bool symplectic);
 
   std::size_t block() const { return plan_.block; }
   std::size_t window() const { return plan_.window; }  ///< W: ring slots (≤ V)
   const SweepPlan& plan() const { return plan_; }
 
  private:
+  const MassSpringSettings& settings_;
   SweepPlan plan_;
 };
 

@@ -130,7 +130,7 @@ StepStats MassSpringIntegrator::step_explicit(MassSpringState& state, const Tiss
   Vec3* v = state.velocities.data();
   StepStats stats;
   if (explicit_sweep() && !area_term_on(s, terms_)) {
-    stats.finite = std::isfinite(sweep_->step(s, x, v, loads, terms_, dt, symplectic));
+    stats.finite = std::isfinite(sweep_->step(x, v, loads, terms_, dt, symplectic));
     end_step(state);
     return stats;
   }

@@ -27,7 +27,6 @@ BlockedSprings block_springs(const SpringLayout& layout, std::size_t vertex_coun
   if (block == 0) throw Error("tissue: a block of vertices must hold at least one");
   const std::size_t n = vertex_count, blocks = (n + block - 1) / block;
   BlockedSprings out;
-  out.block = block;
   std::vector<std::size_t> reach(blocks);
   for (std::size_t b = 0; b < blocks; ++b) reach[b] = std::min(n, (b + 1) * block);
 

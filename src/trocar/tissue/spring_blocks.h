@@ -13,7 +13,6 @@
 namespace trocar::tissue_detail {
 
 struct BlockedSprings {
-  std::size_t block = 0;           ///< vertices per block
   SpringLayout layout;             ///< stars and others, block by block
   /// Per block: where its stars and others end in the layout, and 1 + the highest vertex the
   /// quads of it and every earlier block touch (at least the block's own end; non-decreasing).
