@@ -63,6 +63,12 @@ TROCAR_AVX2 inline Real sum(__m256d a) {
   _mm256_store_pd(lanes, a);
   return (lanes[0] + lanes[1]) + (lanes[2] + lanes[3]);
 }
+/// x + y + z of an (x, y, z, ·) vector: the padding lane is left out.
+TROCAR_AVX2 inline Real sum_xyz(__m256d a) {
+  alignas(32) Real lanes[4];
+  _mm256_store_pd(lanes, a);
+  return lanes[0] + lanes[1] + lanes[2];
+}
 
 /// The x, y and z rows of four (x, y, z, ·) vectors: 4 unpacks and 3 lane swaps.
 TROCAR_AVX2 inline void transpose_rows(const __m256d* a, __m256d& rx, __m256d& ry, __m256d& rz) {
@@ -183,9 +189,7 @@ TROCAR_AVX2 inline Real volume_gradient(const VolumeLayout& layout, Load vertex,
     store(g[ib], _mm256_add_pd(load(g[ib]), n));
     store(g[ic], _mm256_add_pd(load(g[ic]), n));
   }
-  alignas(32) Real lanes[4];
-  _mm256_store_pd(lanes, six_v);
-  return lanes[0] + lanes[1] + lanes[2];
+  return sum_xyz(six_v);
 }
 
 /// Four springs' rest lengths, stiffnesses and dampings, lane by lane.

@@ -129,9 +129,7 @@ TROCAR_AVX2 Real six_volume_avx2(const Triangle* tris, std::size_t nt, const Pad
     const __m256d n = cross(_mm256_sub_pd(load(x[tris[t][1]]), a), _mm256_sub_pd(load(x[tris[t][2]]), a));
     six_v = _mm256_fmadd_pd(_mm256_sub_pd(a, origin), n, six_v);
   }
-  alignas(32) Real lanes[4];
-  _mm256_store_pd(lanes, six_v);
-  return lanes[0] + lanes[1] + lanes[2];
+  return sum_xyz(six_v);
 }
 
 TROCAR_AVX2 Real update_avx2(const MassSpringSettings& s, Vec3* x, Vec3* v, const UpdateInputs& in) {
@@ -158,9 +156,7 @@ TROCAR_AVX2 Real update_avx2(const MassSpringSettings& s, Vec3* x, Vec3* v, cons
     check = _mm256_add_pd(check, explicit_vertex_update(c, f, load(in.x[i]), load(in.v[i]), load(x0[i]), mass[i],
                                                         inverse_mass[i], x[i], v[i]));
   }
-  alignas(32) Real lanes[4];
-  _mm256_store_pd(lanes, check);
-  return lanes[0] + lanes[1] + lanes[2];
+  return sum_xyz(check);
 }
 TROCAR_AVX2 void copy_padded_avx2(const Vec3* p, std::size_t n, Padded3* out) {
   for (std::size_t i = 0; i < n; ++i) store(out[i], load3(p[i]));

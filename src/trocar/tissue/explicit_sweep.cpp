@@ -159,9 +159,7 @@ TROCAR_AVX2 Real sweep_avx2(SweepPlan& p, const MassSpringSettings& s, Vec3* x, 
       check = _mm256_add_pd(check, explicit_vertex_update(c, f, xi, load(rv[k]), x0, mass[i], inverse_mass[i], x[i], v[i]));
     }
   }
-  alignas(32) Real lanes[4];
-  _mm256_store_pd(lanes, check);
-  return lanes[0] + lanes[1] + lanes[2];
+  return sum_xyz(check);
 }
 #endif  // TROCAR_HAVE_X86
 

@@ -1,8 +1,8 @@
 #pragma once
 /// A spring layout (explicit_kernels.h) regrouped by blocks of consecutive vertices, each quad in
 /// the block of its lowest vertex, for passes that sweep the vertices once and interleave
-/// per-vertex work with the springs (explicit_sweep.h; the implicit step's CG product). With the
-/// vertices in a banded order (mesh/renumber.h) a block's quads reach only a little past it.
+/// per-vertex work with the springs (explicit_sweep.h). With the vertices in a banded order
+/// (mesh/renumber.h) a block's quads reach only a little past it.
 /// Internal to the tissue module.
 #include <cstddef>
 #include <cstdint>
