@@ -28,17 +28,26 @@ function(trocar_add_module name)
     FILES_MATCHING PATTERN "*.h")
 endfunction()
 
-# trocar_add_test(name SOURCES... DEPS...): a GoogleTest binary registered with ctest.
+# trocar_add_test(name [SHARED_DATA] SOURCES... DEPS...): a GoogleTest binary registered with
+# ctest. SHARED_DATA: some of its tests read ../shared/data/meshes through
+# tests/support/shared_data.h and skip when it is absent; they carry the ctest label
+# `shared_data`, which .ci/run runs once more with the folder hidden (the fresh-clone check).
 function(trocar_add_test name)
-  cmake_parse_arguments(T "" "" "SOURCES;DEPS" ${ARGN})
+  cmake_parse_arguments(T "SHARED_DATA" "" "SOURCES;DEPS" ${ARGN})
   if(NOT T_SOURCES)
     return()
   endif()
   add_executable(${name} ${T_SOURCES})
   target_link_libraries(${name} PRIVATE ${T_DEPS} GTest::gtest_main)
+  target_include_directories(${name} PRIVATE ${PROJECT_SOURCE_DIR}/tests)
   target_compile_definitions(${name} PRIVATE
-    TROCAR_SHARED_MESHES="${PROJECT_SOURCE_DIR}/../shared/data/meshes")
+    TROCAR_SHARED_MESHES_DEFAULT="${PROJECT_SOURCE_DIR}/../shared/data/meshes")
   trocar_target_warnings(${name})
+  set(labels unit)
+  if(T_SHARED_DATA)
+    set(labels shared_data)
+  endif()
   gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60 TEST_PREFIX "${name}."
-    PROPERTIES ENVIRONMENT "LSAN_OPTIONS=suppressions=${PROJECT_SOURCE_DIR}/tests/lsan.supp")
+    PROPERTIES ENVIRONMENT "LSAN_OPTIONS=suppressions=${PROJECT_SOURCE_DIR}/tests/lsan.supp"
+               LABELS "${labels}")
 endfunction()

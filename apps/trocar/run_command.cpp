@@ -87,7 +87,7 @@ void run(const Options& o) {
   Scene scene = load_scene(o.scene);
   if (!o.method.empty()) {
     const auto method = parse_response_method(o.method);
-    if (!method) throw Error("--method: unknown method \"" + o.method + "\" (known: obb, primitive, normal, project)");
+    if (!method) throw Error("--method: unknown method \"" + o.method + "\" (known: sdf, obb, primitive, normal, project)");
     scene.settings.response.method = *method;
   }
   if (o.duration >= 0) scene.duration = o.duration;

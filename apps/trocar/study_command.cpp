@@ -1,5 +1,7 @@
 #include "study_command.h"
 
+#include "robustness_command.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -309,6 +311,7 @@ void add_study_command(CLI::App& app, int& exit_code) {
   pen->add_option("--scenes", a->scenes, "Folder holding stab.json and probe_press_slide.json (default: ./scenes)");
   pen->add_flag("--quick", a->quick, "A tiny sweep (one scene, one speed, two methods, two periods) for CI");
   pen->callback([a] { run_study(*a); });
+  add_robustness_command(*study);
 }
 
 }  // namespace trocar::cli

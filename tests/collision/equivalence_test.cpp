@@ -98,7 +98,7 @@ TEST(BroadPhaseEquivalence, MovingSharedMeshes) {
   for (const SharedCase& sc : cases) {
     auto tissue = test::shared_mesh(sc.tissue, sc.tissue_scale);
     auto tool = test::shared_mesh(sc.tool, 0.001);
-    if (!tissue || !tool) GTEST_SKIP() << "shared meshes not found under " << TROCAR_SHARED_MESHES;
+    if (!tissue || !tool) GTEST_SKIP() << test::shared_absent("the tissue or tool mesh");
     test::CuttingScene cut(std::move(*tissue), std::move(*tool), sc.depth, 0.003);
     CollisionDetector ohc(BroadPhaseKind::kOhc);
     CollisionDetector bvh(BroadPhaseKind::kBvh);

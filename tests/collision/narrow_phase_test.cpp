@@ -125,7 +125,7 @@ TEST(NarrowPhase, IdenticalMeshesAndSlivers) {
 TEST(NarrowPhase, ToolCuttingIntoSharedMesh) {
   auto tissue = test::shared_mesh("liver_sofa_smooth.obj", 0.015);
   auto tool = test::shared_mesh("grasper_jaw_maryland_left_lapgym.stl", 0.001);
-  if (!tissue || !tool) GTEST_SKIP() << "shared meshes not found under " << TROCAR_SHARED_MESHES;
+  if (!tissue || !tool) GTEST_SKIP() << test::shared_absent("the tissue or tool mesh");
   test::CuttingScene cut(std::move(*tissue), std::move(*tool), 0.004, 0.003);
   CollisionDetector ohc;
   std::size_t total = 0;

@@ -19,6 +19,7 @@
 #include "trocar/collision/ohc_broad_phase.h"
 #include "trocar/mesh/io/mesh_io.h"
 #include "trocar/mesh/tri_mesh.h"
+#include "support/shared_data.h"
 
 namespace trocar::test {
 
@@ -60,9 +61,9 @@ inline TriMesh translated(TriMesh m, const Vec3& offset) {
 
 /// Loads a shared mesh scaled by `scale`, or nothing when the shared folder is absent.
 inline std::optional<TriMesh> shared_mesh(const std::string& file, double scale) {
-  const std::filesystem::path path = std::filesystem::path(TROCAR_SHARED_MESHES) / file;
-  if (!std::filesystem::exists(path)) return std::nullopt;
-  TriMesh m = load_mesh(path);
+  const std::optional<std::filesystem::path> path = shared_mesh_path(file);
+  if (!path) return std::nullopt;
+  TriMesh m = load_mesh(*path);
   m.scale(scale);
   return m;
 }

@@ -13,6 +13,7 @@
 #include "trocar/mesh/io/mesh_io.h"
 #include "trocar/mesh/renumber.h"
 #include "trocar/mesh/topology.h"
+#include "support/shared_data.h"
 
 namespace trocar {
 namespace {
@@ -109,8 +110,7 @@ TEST(Renumber, RejectsAnOrderThatIsNotAPermutation) {
 // The shared liver (2,194 V): in the file's order an edge joins vertices 779 indices apart on
 // average (largest 2,193); renumbered, 45.6 (largest 98).
 TEST(Renumber, SharedLiverEdgesJoinNearbyVertices) {
-  const auto path = std::filesystem::path(TROCAR_SHARED_MESHES) / "liver_sofa_smooth.obj";
-  if (!std::filesystem::exists(path)) GTEST_SKIP() << "shared meshes absent";
+  TROCAR_SHARED_MESH_OR_SKIP(path, "liver_sofa_smooth.obj");
   const TriMesh liver = load_mesh(path);
   const Span before = edge_span(liver);
   const Span after = edge_span(renumber_vertices(liver, locality_vertex_order(liver)));

@@ -1,4 +1,4 @@
-// validate() and repair() on the third-party meshes in TROCAR_SHARED_MESHES, against the
+// validate() and repair() on the third-party meshes of ../shared/data/meshes, against the
 // numbers in SOURCES.md. Skipped when the folder is absent (or a reader is not there yet).
 #include <gtest/gtest.h>
 
@@ -12,6 +12,7 @@
 #include "trocar/mesh/repair.h"
 #include "trocar/mesh/topology.h"
 #include "trocar/mesh/validate.h"
+#include "support/shared_data.h"
 
 namespace trocar {
 namespace {
@@ -45,13 +46,13 @@ const Expected kFiles[] = {
 
 /// Loads a shared mesh, or explains why the test must be skipped (empty optional).
 std::optional<TriMesh> load_shared(const std::string& file, std::string& why) {
-  const std::filesystem::path path = std::filesystem::path(TROCAR_SHARED_MESHES) / file;
-  if (!std::filesystem::exists(path)) {
-    why = "no " + path.string();
+  const std::optional<std::filesystem::path> path = test::shared_mesh_path(file);
+  if (!path) {
+    why = test::shared_absent(file);
     return std::nullopt;
   }
   try {
-    return load_mesh(path);
+    return load_mesh(*path);
   } catch (const Error& e) {
     const std::string what = e.what();
     if (what.find("not implemented") != std::string::npos) {  // reader still a placeholder

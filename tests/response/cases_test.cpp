@@ -20,6 +20,7 @@ constexpr Real kTol = 1e-12;
 // (depth_cap_test.cpp) is off.
 const ResponseSettings kSeed = [] {
   ResponseSettings s;
+  s.method = ResponseMethod::kObb;  // the seed's kernel (the default is sdf)
   s.depth_cap = false;
   return s;
 }();

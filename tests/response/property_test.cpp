@@ -54,6 +54,7 @@ TEST(ResponseProperties, RandomPairs) {
   std::mt19937 rng(2024);
   std::uniform_real_distribution<Real> u(-1, 1);
   ResponseSettings s;
+  s.method = ResponseMethod::kObb;  // the seed's kernel (the default is sdf)
   s.pierce_filter = false;  // random orientations: the top vertex means nothing here
   s.max_force = 0;
   ResponseSolver solver(s);
@@ -123,6 +124,7 @@ TEST(ResponseProperties, ForceGrowsWithDepth) {
   std::mt19937 rng(77);
   std::uniform_real_distribution<Real> u(-1, 1), u01(0, 1);
   ResponseSettings s;
+  s.method = ResponseMethod::kObb;  // the seed's kernel (the default is sdf)
   s.pierce_filter = false;
   long checked = 0;
   for (int k = 0; k < kPairs; ++k) {

@@ -56,6 +56,7 @@ TEST(ResponseSolver, ForcesSumOppositeToInstrumentAndJacobians) {
   const std::vector<Contact> contacts = brute_contacts(f.tool, f.sheet);
   ASSERT_GT(contacts.size(), 10u);
   ResponseSettings s;
+  s.method = ResponseMethod::kObb;  // the seed's kernel (the default is sdf)
   ResponseSolver solver(s);
   solver.reset(f.sheet.positions.size());
   const ResponseStats st = solver.apply(contacts, 0, 1, f.tool, f.view(), f.loads, f.load);

@@ -111,7 +111,7 @@ TEST(Scene, UnknownPresetIntegratorMethodGeneratorAndBroadPhase) {
                         "integrator": "rk4"}]})").find("scene.json: tissues[0].integrator: "),
             std::string::npos);
   EXPECT_EQ(error_of(R"({"schema": 1, "response": {"method": "magic"}})"),
-            "scene.json: response.method: unknown method \"magic\" (known: obb, primitive, normal, project)");
+            "scene.json: response.method: unknown method \"magic\" (known: sdf, obb, primitive, normal, project)");
   EXPECT_EQ(error_of(R"({"schema": 1, "collision": {"broad_phase": "grid"}})"),
             "scene.json: collision.broad_phase: unknown broad phase \"grid\" (known: ohc, bvh, brute)");
   EXPECT_EQ(error_of(R"({"schema": 1, "tissues": [{"mesh": {"generate": "torus"}}]})")

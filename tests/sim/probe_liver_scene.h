@@ -7,6 +7,7 @@
 #include <string>
 
 #include "trocar/scene/scene.h"
+#include "support/shared_data.h"
 
 namespace trocar::test {
 
@@ -14,10 +15,11 @@ namespace trocar::test {
 /// 1 cm above the liver's top and goes down 2 cm in `press_time` seconds, then holds.
 /// `method`: the response method (DESIGN.md §4).
 inline std::optional<std::string> probe_liver_scene_text(double press_time = 1.0, const std::string& method = "obb") {
-  const std::filesystem::path dir(TROCAR_SHARED_MESHES);
-  const auto liver = dir / "liver_sofa_smooth.obj";
-  const auto probe = dir / "probe_hook_electrode_lapgym.stl";
-  if (!std::filesystem::exists(liver) || !std::filesystem::exists(probe)) return std::nullopt;
+  const std::optional<std::filesystem::path> liver_found = test::shared_mesh_path("liver_sofa_smooth.obj");
+  const std::optional<std::filesystem::path> probe_found = test::shared_mesh_path("probe_hook_electrode_lapgym.stl");
+  if (!liver_found || !probe_found) return std::nullopt;
+  const std::filesystem::path& liver = *liver_found;
+  const std::filesystem::path& probe = *probe_found;
   // Liver in metres: x ∈ [−0.047, 0.017], y ∈ [0.003, 0.052], z ∈ [−0.017, 0.027]. The probe's
   // hook spans z ∈ [0, 15] mm in its file; rotated 180° about x it points down from the origin.
   return R"({"schema": 1, "name": "probe-liver", "timestep": 0.001, "duration": 1.5, "gravity": [0, 0, -9.81],

@@ -155,8 +155,9 @@ Real relative_deviation(const std::vector<Real>& v) {
 }
 
 TEST(Simulation, RestingProbeSettlesWithoutJitter) {
-  // Every method with the simulator's defaults: the seed's `obb` with its depth cap, `normal`,
-  // and `project` / `primitive`, whose position correction is gated by the probe's approach.
+  // Every penalty method with the simulator's defaults: the seed's `obb` with its depth cap,
+  // `normal`, and `project` / `primitive`, whose position correction is gated by the probe's
+  // approach. (`sdf`: SdfRestingProbeSettles below.)
   for (const ResponseMethod method :
        {ResponseMethod::kObb, ResponseMethod::kNormal, ResponseMethod::kProject, ResponseMethod::kPrimitive}) {
     SCOPED_TRACE(response_method_name(method));
@@ -170,6 +171,19 @@ TEST(Simulation, RestingProbeSettlesWithoutJitter) {
     EXPECT_GT(*std::min_element(r.force.begin(), r.force.end()), 0.0);
     EXPECT_LT(relative_deviation(r.force), 0.15);
   }
+}
+
+TEST(Simulation, SdfRestingProbeSettles) {
+  // The constraint holds the probe with a steady force (deviation ≤ 15 %, never zero) and the
+  // tissue comes to rest, but for a stick–slip of the position friction at single vertices under
+  // the capsule's tip: measured peaks of 4.4 cm/s that decay in ~5 ms, ~every 10 ms (friction off:
+  // below 1 cm/s). The bound is set to catch a regression, not to claim the 1 cm/s of the penalty
+  // methods (docs/response.md, open item).
+  const HoldResult r = hold_probe(ResponseMethod::kSdf, true);
+  ASSERT_EQ(r.force.size(), 200u);
+  EXPECT_LT(r.speed, 0.06);
+  EXPECT_GT(*std::min_element(r.force.begin(), r.force.end()), 0.0);
+  EXPECT_LT(relative_deviation(r.force), 0.15);
 }
 
 TEST(Simulation, UncappedSeedChattersOnARestingProbe) {

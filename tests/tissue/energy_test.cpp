@@ -12,6 +12,7 @@
 #include "trocar/mesh/io/mesh_io.h"
 #include "trocar/tissue/energy.h"
 #include "trocar/tissue/forces.h"
+#include "support/shared_data.h"
 
 namespace trocar {
 namespace {
@@ -67,8 +68,7 @@ TEST(ElasticEnergyMeter, MatchesTheReferenceOnAnOpenSheet) {
 }
 
 TEST(ElasticEnergyMeter, MatchesTheReferenceOnTheSharedLiver) {
-  const std::filesystem::path path = std::filesystem::path(TROCAR_SHARED_MESHES) / "liver_sofa_smooth.obj";
-  if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " not found";
+  TROCAR_SHARED_MESH_OR_SKIP(path, "liver_sofa_smooth.obj");
   TriMesh mesh = load_mesh(path);
   for (Vec3& p : mesh.positions) p *= 0.01;  // cm → m
   expect_matches_reference(MassSpringSettings::build(mesh, every_term()), 0.001);

@@ -22,6 +22,7 @@
 #include "trocar/tissue/explicit_sweep.h"
 #include "trocar/tissue/forces.h"
 #include "trocar/tissue/integrator.h"
+#include "support/shared_data.h"
 
 namespace trocar {
 namespace {
@@ -145,8 +146,7 @@ TEST(ExplicitSweep, ThreeSpringClassesKeepFullQuads) {
 // the fixed vertices bit for bit.
 TEST(ExplicitSweep, SharedLiverTrajectoryMatchesThePasses) {
   if (!cpu_has_avx2_fma()) GTEST_SKIP() << "the sweep needs AVX2 and FMA";
-  const std::filesystem::path path = std::filesystem::path(TROCAR_SHARED_MESHES) / "liver_sofa_smooth.obj";
-  if (!std::filesystem::exists(path)) GTEST_SKIP() << "shared meshes absent";
+  TROCAR_SHARED_MESH_OR_SKIP(path, "liver_sofa_smooth.obj");
   TriMesh mesh = load_mesh(path.string());
   for (Vec3& p : mesh.positions) p *= 0.01;  // cm → m
   const MassSpringSettings s = sweep_settings(banded(mesh), 1.0);  // a 1 kg liver

@@ -11,6 +11,7 @@
 #include "trocar/mesh/io/mesh_io.h"
 #include "trocar/tissue/forces.h"
 #include "trocar/tissue/settings.h"
+#include "support/shared_data.h"
 
 namespace trocar {
 namespace {
@@ -408,8 +409,7 @@ TEST(TissueForces, VolumeTermIsAPressure) {
 }
 
 TEST(TissueForces, SharedLiverAtRestAndStiffnessSign) {
-  const std::filesystem::path path = std::filesystem::path(TROCAR_SHARED_MESHES) / "liver_sofa_smooth.obj";
-  if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " not found";
+  TROCAR_SHARED_MESH_OR_SKIP(path, "liver_sofa_smooth.obj");
   TriMesh mesh = load_mesh(path);
   for (Vec3& p : mesh.positions) p *= 0.01;  // cm → m
   const MassSpringSettings s = MassSpringSettings::build(mesh, all_terms_material());

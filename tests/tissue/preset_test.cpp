@@ -17,6 +17,7 @@
 #include "trocar/tissue/material.h"
 #include "trocar/tissue/settings.h"
 #include "trocar/tissue/state.h"
+#include "support/shared_data.h"
 
 namespace trocar {
 namespace {
@@ -67,9 +68,9 @@ Outcome settle(const TriMesh& mesh, const MassSpringMaterial& material, const Fi
 
 /// A shared organ mesh in metres; empty when the file is absent (the test then skips).
 std::optional<TriMesh> shared_organ(const char* file, Real scale) {
-  const auto path = std::filesystem::path(TROCAR_SHARED_MESHES) / file;
-  if (!std::filesystem::exists(path)) return std::nullopt;
-  TriMesh mesh = load_mesh(path);
+  const std::optional<std::filesystem::path> path = test::shared_mesh_path(file);
+  if (!path) return std::nullopt;
+  TriMesh mesh = load_mesh(*path);
   for (Vec3& p : mesh.positions) p *= scale;
   return mesh;
 }
@@ -82,7 +83,7 @@ void report(const char* name, const TriMesh& mesh, const Outcome& out, int steps
 /// One organ: preset `name`, integrator implicit-euler (what every organ preset is meant for).
 void check_organ(const char* name, const char* file, Real scale, int steps) {
   const std::optional<TriMesh> mesh = shared_organ(file, scale);
-  if (!mesh) GTEST_SKIP() << "shared mesh " << file << " not found under " << TROCAR_SHARED_MESHES;
+  if (!mesh) GTEST_SKIP() << test::shared_absent(file);
   const Outcome out = settle(*mesh, material_preset(name), bottom_support(*mesh), IntegratorKind::kImplicitEuler, steps);
   report(name, *mesh, out, steps);
   EXPECT_GT(out.fixed, 0);

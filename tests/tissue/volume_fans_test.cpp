@@ -14,6 +14,7 @@
 #include "trocar/mesh/generate.h"
 #include "trocar/mesh/io/mesh_io.h"
 #include "trocar/tissue/volume_fans.h"
+#include "support/shared_data.h"
 
 namespace trocar {
 namespace {
@@ -171,8 +172,7 @@ TEST(VolumeFans, RandomTriangleSoupsKeepEveryTriangleOnce) {
 }
 
 TEST(VolumeFans, SharedLiverMostlyFansSumsMatch) {
-  const auto path = std::filesystem::path(TROCAR_SHARED_MESHES) / "liver_sofa_smooth.obj";
-  if (!std::filesystem::exists(path)) GTEST_SKIP() << "shared meshes absent";
+  TROCAR_SHARED_MESH_OR_SKIP(path, "liver_sofa_smooth.obj");
   const TriMesh mesh = load_mesh(path);
   const VolumeLayout layout = tissue_detail::make_volume_layout(mesh.triangles, mesh.vertex_count());
   expect_each_triangle_once(mesh, layout);

@@ -206,6 +206,7 @@ ContactResponse respond_contact(const ContactTriangles& tri, const Obb& box, con
       }
       break;
     }
+    case ResponseMethod::kSdf:  // no penalty kernel (the solver skips it); if called, as primitive
     case ResponseMethod::kPrimitive: {
       // The two triangles alone: the instrument triangle's deepest vertex below the plane.
       depth = -std::min({d[0], d[1], d[2]}) * inv_len;

@@ -70,6 +70,12 @@ ResponseStats ResponseSolver::apply(std::span<const Contact> contacts, std::uint
       continue;
     }
 
+    if (settings_.method == ResponseMethod::kSdf) {
+      // Contact as a constraint: ContactProjector moves the tissue after its integration; no
+      // penalty force here. The contact counts as applied (the projection answers it).
+      ++stats.by_status[static_cast<std::size_t>(ContactStatus::kApplied)];
+      continue;
+    }
     for (int i = 0; i < 3; ++i) {
       tri.a[i] = ix[ta[i]];
       tri.va[i] = instrument.velocity_at(tri.a[i]);

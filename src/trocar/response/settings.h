@@ -16,16 +16,20 @@ enum class ResponseMethod : std::uint8_t {
                ///< moved apart by that depth (position correction), primitive by primitive
   kNormal,     ///< "normal": depth of the instrument's deepest vertex along n_in; force along n_in
   kProject,    ///< "project": the seed's D as a force and also as a position correction
+  /// "sdf" (the default): contact as a position constraint against the instrument's own signed
+  /// distance, with friction, after the tissue's integration (response/contact_projection.h);
+  /// no penalty force enters the tissue's solve. The reported force is the constraint's.
+  kSdf,
 };
 
-/// "obb", "primitive", "normal" or "project".
+/// "obb", "primitive", "normal", "project" or "sdf".
 const char* response_method_name(ResponseMethod method);
 /// The method named `name` (exact, lower case), or nothing.
 std::optional<ResponseMethod> parse_response_method(std::string_view name);
 
 /// Parameters of the penalty response. Defaults are DESIGN.md §5's example scene.
 struct ResponseSettings {
-  ResponseMethod method = ResponseMethod::kObb;  ///< see ResponseMethod
+  ResponseMethod method = ResponseMethod::kSdf;  ///< see ResponseMethod
   Real stiffness = 2000;       ///< K in eq. 3.9 (N/m)
   Real damping = 5;            ///< μ in eq. 3.9 (N·s/m)
   Real max_force = 10;         ///< clamp on |instrument force| for the device (N); ≤ 0: no clamp
@@ -46,6 +50,13 @@ struct ResponseSettings {
   /// the tissue out (docs/response.md "Gated correction"). m/s; 0: always the full correction
   /// (the ungated baseline, which chatters under a held instrument).
   Real correction_speed = 0.05;
+  /// sdf: the skin (m) the tissue is kept outside the instrument's surface.
+  Real contact_margin = 5e-5;
+  /// sdf: static friction coefficient μs (tangential motion relative to the instrument is removed
+  /// while it is ≤ μs × the normal correction); 0 turns friction off.
+  Real friction_static = 0.6;
+  /// sdf: kinetic friction coefficient μk (sliding motion shortened by μk × the normal correction).
+  Real friction_kinetic = 0.6;
 };
 
 }  // namespace trocar

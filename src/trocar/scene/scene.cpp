@@ -198,13 +198,13 @@ void read_collision(const JsonReader& c, Scene& scene) {
 
 void read_response(const JsonReader& r, Scene& scene) {
   r.expect_keys({"method", "stiffness", "damping", "max_force", "resting_speed", "grasp_closure", "pierce_filter",
-                 "depth_cap", "correction_speed"});
+                 "depth_cap", "correction_speed", "contact_margin", "friction_static", "friction_kinetic"});
   ResponseSettings& s = scene.settings.response;
   if (r.has("method")) {
     const JsonReader m = r.at("method");
     const std::string name = m.string();
     const auto method = parse_response_method(name);
-    if (!method) m.fail("unknown method \"" + name + "\" (known: obb, primitive, normal, project)");
+    if (!method) m.fail("unknown method \"" + name + "\" (known: sdf, obb, primitive, normal, project)");
     s.method = *method;
   }
   if (r.has("stiffness")) s.stiffness = r.at("stiffness").number_at_least(0);
@@ -218,6 +218,9 @@ void read_response(const JsonReader& r, Scene& scene) {
   if (r.has("pierce_filter")) s.pierce_filter = r.at("pierce_filter").boolean();
   if (r.has("depth_cap")) s.depth_cap = r.at("depth_cap").boolean();
   if (r.has("correction_speed")) s.correction_speed = r.at("correction_speed").number_at_least(0);
+  if (r.has("contact_margin")) s.contact_margin = r.at("contact_margin").number_at_least(0);
+  if (r.has("friction_static")) s.friction_static = r.at("friction_static").number_at_least(0);
+  if (r.has("friction_kinetic")) s.friction_kinetic = r.at("friction_kinetic").number_at_least(0);
 }
 
 }  // namespace

@@ -123,6 +123,15 @@ Simulation::Simulation(World world, const SimulationSettings& settings)
       solvers_.emplace_back(settings_.response);
       solvers_.back().reset(world_.tissues[t]->settings.vertex_count());
     }
+  if (settings_.response.method == ResponseMethod::kSdf) {
+    for (const InstrumentBody& body : world_.instruments) fields_.emplace_back(body.instrument.local_mesh());
+    projectors_.resize(ni * nt);
+    for (std::size_t i = 0; i < ni; ++i)
+      for (std::size_t t = 0; t < nt; ++t)
+        projectors_[i * nt + t].reset(world_.tissues[t]->settings.vertex_count(), world_.tissues[t]->settings.triangles,
+                                      world_.instruments[i].instrument.world_positions().size());
+  }
+  loads_.resize(ni);
   instrument_metrics_.resize(ni);
   distances_.resize(nt);
   start_distances_.resize(nt);
@@ -199,6 +208,10 @@ const StepMetrics& Simulation::step(Real dt) {
   stage.restart();
   deform(dt);
   metrics_.timings.deformation = stage.microseconds();
+  for (std::size_t i = 0; i < loads_.size(); ++i) {
+    loads_[i].clamp(settings_.response.max_force);  // the device's force only, never the tissue's
+    instrument_metrics_[i] = InstrumentMetrics{loads_[i].force, loads_[i].torque, loads_[i].raw_force};
+  }
 
   stage.restart();
   measure();
@@ -247,8 +260,7 @@ void Simulation::respond() {
       total.raw_force += pair.raw_force;
       total.raw_torque += pair.raw_torque;
     }
-    total.clamp(settings_.response.max_force);
-    instrument_metrics_[i] = InstrumentMetrics{total.force, total.torque, total.raw_force};
+    loads_[i] = total;
   }
 }
 
@@ -264,6 +276,23 @@ void Simulation::deform(Real dt) {
       s.apply_corrections(tissue.state.positions);
       s.apply_grasp(world_.instruments[i].instrument, tissue.state.positions, tissue.state.velocities);
     }
+    if (!projectors_.empty()) project_contacts(t, dt);
+  }
+}
+
+void Simulation::project_contacts(std::size_t t, Real dt) {
+  const std::size_t ni = world_.instruments.size();
+  const std::size_t nt = world_.tissues.size();
+  TissueBody& tissue = *world_.tissues[t];
+  const ProjectedTissue view{tissue.state.positions, tissue.state.velocities, tissue.settings.masses,
+                             tissue.settings.fixed, tissue.settings.triangles};
+  for (std::size_t i = 0; i < ni; ++i) {
+    const InstrumentBody& body = world_.instruments[i];
+    const ProjectionStats stats = projectors_[i * nt + t].project(
+        body.instrument, fields_[i], contacts_, static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(ni + t),
+        solver(i, t).grasp(), view, body.thickness, dt, settings_.response);
+    loads_[i].raw_force += stats.force;
+    loads_[i].raw_torque += stats.torque;
   }
 }
 
@@ -324,6 +353,10 @@ void Simulation::measure_penetration(std::size_t t) {
     for (const Contact& c : contacts_) {
       if (c.kind != ContactKind::kInstrumentTissue || c.object_a != i || c.object_b != ni + t) continue;
       for (std::uint32_t v : body.instrument.triangles()[c.triangle_a]) touched[v] = 1;
+    }
+    if (!projectors_.empty()) {  // method sdf: vertices whose contact the projection found itself
+      const std::span<const std::uint8_t> hits = projectors_[i * nt + t].instrument_hits();
+      for (std::size_t v = 0; v < hits.size() && v < touched.size(); ++v) touched[v] |= hits[v];
     }
     measure_pair(i, t, inside_box, sheet);
   }

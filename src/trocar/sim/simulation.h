@@ -11,6 +11,8 @@
 #include "trocar/collision/detector.h"
 #include "trocar/collision/ohc_broad_phase.h"
 #include "trocar/geometry/signed_distance.h"
+#include "trocar/response/contact_projection.h"
+#include "trocar/response/instrument_field.h"
 #include "trocar/response/response_solver.h"
 #include "trocar/response/settings.h"
 #include "trocar/sim/sheet_boundary.h"
@@ -139,6 +141,9 @@ class Simulation {
   ResponseSolver& solver(std::size_t instrument, std::size_t tissue) {
     return solvers_[instrument * world_.tissues.size() + tissue];
   }
+  /// Method sdf: moves tissue t out of every instrument and adds the constraint's force to the
+  /// instruments' raw loads.
+  void project_contacts(std::size_t tissue, Real dt);
 
   World world_;
   SimulationSettings settings_;
@@ -146,6 +151,9 @@ class Simulation {
   std::vector<CollisionObject> objects_;     ///< instruments, then tissues, then rigids
   std::vector<Contact> contacts_;            ///< this step's contacts
   std::vector<ResponseSolver> solvers_;      ///< per (instrument, tissue) pair
+  std::vector<ContactProjector> projectors_; ///< per (instrument, tissue) pair (method sdf)
+  std::vector<InstrumentField> fields_;      ///< per instrument (method sdf; built once)
+  std::vector<InstrumentLoad> loads_;        ///< per instrument: this step's raw load, then clamped
   std::vector<InstrumentMetrics> instrument_metrics_;
   std::vector<std::unique_ptr<MeshDistance>> distances_;  ///< per tissue (null without metrics)
   std::vector<SheetBoundary> sheets_;  ///< per tissue: the border of an open one (empty when closed)

@@ -94,7 +94,7 @@ std::string test_name(const ::testing::TestParamInfo<Expected>& param_info) {
 class SharedMeshes : public ::testing::TestWithParam<Expected> {
  protected:
   void SetUp() override {
-    if (!std::filesystem::is_directory(TROCAR_SHARED_MESHES)) GTEST_SKIP() << TROCAR_SHARED_MESHES << " not found";
+    if (!test::shared_meshes_dir()) GTEST_SKIP() << test::shared_absent(GetParam().file);
   }
 };
 
@@ -209,7 +209,7 @@ INSTANTIATE_TEST_SUITE_P(MeshIo, SharedMeshes, ::testing::ValuesIn(kExpected), t
 
 TEST(SharedMeshesWelding, BodyParts3DDuplicatesMergeToSourcesCounts) {
   // SOURCES.md: merging by position gives 1943 V (liver) and 1241 V (kidney).
-  if (!std::filesystem::is_directory(TROCAR_SHARED_MESHES)) GTEST_SKIP();
+  if (!test::shared_meshes_dir()) GTEST_SKIP() << test::shared_absent("liver_bodyparts3d_FMA7197.obj");
   for (const auto& [file, merged] : {std::pair{"liver_bodyparts3d_FMA7197.obj", 1943u},
                                      std::pair{"kidney_right_bodyparts3d_FMA7204.obj", 1241u}}) {
     const TriMesh m = load_mesh(test::shared_mesh(file));

@@ -12,6 +12,7 @@
 
 #include "trocar/core/error.h"
 #include "trocar/mesh/io/mesh_io.h"
+#include "support/shared_data.h"
 
 namespace trocar::test {
 
@@ -76,9 +77,10 @@ inline std::string make_binary_stl(const std::vector<Facet>& facets, std::string
   return out;
 }
 
-/// Path of a file in the shared test meshes folder.
+/// Path of a file in the shared test meshes folder (check test::shared_meshes_dir() first: the
+/// folder is absent in a user's clone).
 inline std::string shared_mesh(const std::string& file) {
-  return std::string(TROCAR_SHARED_MESHES) + "/" + file;
+  return (std::filesystem::path(TROCAR_SHARED_MESHES_DEFAULT) / file).string();
 }
 
 }  // namespace trocar::test

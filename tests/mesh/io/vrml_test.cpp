@@ -191,11 +191,13 @@ TEST(VrmlReader, UseOfNodeDefinedInsideSkippedNodeAddsNothing) {
 }
 
 TEST(VrmlReader, LiverMatchesTheObjBitForBit) {
-  const TriMesh m = load_mesh(std::string(TROCAR_SHARED_MESHES) + "/liver_sofa_smooth.wrl");
+  TROCAR_SHARED_MESH_OR_SKIP(wrl_path, "liver_sofa_smooth.wrl");
+  TROCAR_SHARED_MESH_OR_SKIP(obj_path, "liver_sofa_smooth.obj");
+  const TriMesh m = load_mesh(wrl_path);
   // A 10-line OBJ parser (v x y z; f a//n b//n c//n) keeps this test independent of read_obj.
   std::vector<Vec3> v;
   std::vector<Triangle> f;
-  std::istringstream in(read_file(std::string(TROCAR_SHARED_MESHES) + "/liver_sofa_smooth.obj"));
+  std::istringstream in(read_file(obj_path.string()));
   for (std::string line; std::getline(in, line);) {
     std::istringstream ls(line);
     std::string key, a[3];
@@ -282,7 +284,8 @@ void expect_same_as_coin(const std::string& text) {
 }
 
 TEST(VrmlReaderCoin, LiverAgreesWithCoin) {
-  expect_same_as_coin(read_file(std::string(TROCAR_SHARED_MESHES) + "/liver_sofa_smooth.wrl"));
+  TROCAR_SHARED_MESH_OR_SKIP(path, "liver_sofa_smooth.wrl");
+  expect_same_as_coin(read_file(path.string()));
 }
 
 TEST(VrmlReaderCoin, TransformsUseAndSwitchAgreeWithCoin) {

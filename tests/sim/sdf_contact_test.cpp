@@ -1,0 +1,84 @@
+// The sdf response inside Simulation::step: max_force clamps only the reported force, and the
+// constraint keeps a pressed, sliding and poking probe out of a generated organ.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "probe_scene.h"
+#include "trocar/scene/scene.h"
+#include "trocar/sim/simulation.h"
+#include "trocar/study/robustness.h"
+
+namespace trocar {
+namespace {
+
+/// The probe scene (capsule pressing 5 mm into a sphere) with `method` and `max_force`.
+Simulation probe_sim(ResponseMethod method, Real max_force) {
+  Scene scene = parse_scene(test::probe_scene_text(0.04, 0.028, 0.1), "probe.json", ".");
+  scene.settings.response.method = method;
+  scene.settings.response.max_force = max_force;
+  return Simulation(std::move(scene.world), scene.settings);
+}
+
+// DESIGN.md §8: max_force limits the force reported to the instrument and the device, never the
+// correction of the tissue. A limit of 1 mN against one of 1 kN: the same tissue, bit for bit,
+// for every method; only the reported force differs (and is capped at 1 mN).
+TEST(MaxForce, NeverClampsTheTissuesCorrection) {
+  for (const ResponseMethod method : {ResponseMethod::kSdf, ResponseMethod::kObb, ResponseMethod::kProject,
+                                      ResponseMethod::kPrimitive, ResponseMethod::kNormal}) {
+    SCOPED_TRACE(response_method_name(method));
+    Simulation weak = probe_sim(method, 1e-3);
+    Simulation strong = probe_sim(method, 1e3);
+    Real weak_max = 0, strong_max = 0;
+    for (int s = 0; s < 150; ++s) {
+      weak.step(1e-3);
+      strong.step(1e-3);
+      weak_max = std::max(weak_max, weak.instrument_metrics()[0].force.norm());
+      strong_max = std::max(strong_max, strong.instrument_metrics()[0].force.norm());
+    }
+    EXPECT_EQ(weak.state_hash(), strong.state_hash());
+    EXPECT_LE(weak_max, 1e-3 * (1 + 1e-12));
+    EXPECT_GT(strong_max, 0.05);  // the press needs tenths of a newton
+    EXPECT_EQ(weak.instrument_metrics()[0].raw_force, strong.instrument_metrics()[0].raw_force);
+  }
+}
+
+// The default method is sdf.
+TEST(SdfContact, IsTheDefaultMethod) {
+  EXPECT_EQ(ResponseSettings{}.method, ResponseMethod::kSdf);
+  const Scene scene = parse_scene(R"({"schema": 1, "name": "x", "timestep": 0.001, "duration": 0.01,
+    "tissues": [], "instruments": []})", "x.json", ".");
+  EXPECT_EQ(scene.settings.response.method, ResponseMethod::kSdf);
+}
+
+// The suite's smallest generated organ (2,000 T, 2.5 mm edges) under the hook probe (a 1.2 mm
+// wire). The press meets the contact targets (p99 ≤ 0.5 mm, max ≤ 1 mm, no tunneling). The
+// 1 m/s poke meets the depths, with 2 tunneling events at the impact (hook vertices that cross a
+// face within one step while none of their triangles intersects it). The slide misses them
+// (measured p99 1.11 mm, max 2.33 mm: the wire drags under the surface); its bounds here catch a
+// regression, the target stays open (docs/robustness.md).
+TEST(SdfContact, PressSlideAndPokeOnAGeneratedOrgan) {
+  const std::vector<SuiteOrgan> family = generated_organs(1);
+  ASSERT_FALSE(family.empty());
+  const SuiteOrgan& organ = family.front();
+  const SuiteRun press = run_suite_case(organ, SuiteMotion::kPress, ResponseMethod::kSdf);
+  const SuiteRun poke = run_suite_case(organ, SuiteMotion::kPoke, ResponseMethod::kSdf);
+  const SuiteRun slide = run_suite_case(organ, SuiteMotion::kSlide, ResponseMethod::kSdf);
+  for (const SuiteRun* r : {&press, &poke, &slide}) {
+    SCOPED_TRACE(r->motion);
+    EXPECT_TRUE(r->stable);
+    EXPECT_GT(r->contact_steps, 100u);
+    EXPECT_GT(r->raw_force_max, 0.01);
+  }
+  EXPECT_LE(press.penetration_p99, 0.5e-3);
+  EXPECT_LE(press.penetration_max, 1e-3);
+  EXPECT_EQ(press.tunneling, 0u);
+  EXPECT_LE(poke.penetration_p99, 0.5e-3);
+  EXPECT_LE(poke.penetration_max, 1e-3);
+  EXPECT_LE(poke.tunneling, 2u);
+  EXPECT_LE(slide.penetration_p99, 1.5e-3);
+  EXPECT_LE(slide.penetration_max, 3e-3);
+}
+
+}  // namespace
+}  // namespace trocar
