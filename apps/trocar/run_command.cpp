@@ -208,7 +208,7 @@ void add_run_command(CLI::App& app, int& exit_code) {
   cmd->add_option("scene", options->scene, "Scene file (JSON, docs/scene.md)")->required();
   cmd->add_option("--duration", options->duration, "Simulated seconds (default: the scene's duration)")
       ->check(CLI::NonNegativeNumber);
-  cmd->add_option("--method", options->method, "Response method: obb, primitive, normal, project");
+  cmd->add_option("--method", options->method, "Response method: obb, sdf, primitive, normal, project");
   cmd->add_option("--report", options->report, "Write the run report (JSON) to this file");
   cmd->add_option("--record", options->record, "Write a per-step CSV to this file");
   cmd->add_flag("--quiet,-q", options->quiet, "Print nothing but errors");

@@ -43,12 +43,11 @@ TEST(MaxForce, NeverClampsTheTissuesCorrection) {
   }
 }
 
-// The default method is sdf.
-TEST(SdfContact, IsTheDefaultMethod) {
-  EXPECT_EQ(ResponseSettings{}.method, ResponseMethod::kSdf);
-  const Scene scene = parse_scene(R"({"schema": 1, "name": "x", "timestep": 0.001, "duration": 0.01,
-    "tissues": [], "instruments": []})", "x.json", ".");
-  EXPECT_EQ(scene.settings.response.method, ResponseMethod::kSdf);
+// obb stays the default until sdf meets the contact targets on the suite (docs/robustness.md).
+TEST(SdfContact, IsNotYetTheDefaultMethod) {
+  EXPECT_EQ(ResponseSettings{}.method, ResponseMethod::kObb);
+  EXPECT_EQ(parse_response_method("sdf"), ResponseMethod::kSdf);
+  EXPECT_STREQ(response_method_name(ResponseMethod::kSdf), "sdf");
 }
 
 // The suite's smallest generated organ (2,000 T, 2.5 mm edges) under the hook probe (a 1.2 mm

@@ -231,16 +231,20 @@ World suite_world(const SuiteOrgan& organ, SuiteMotion motion, Real& duration) {
   return world;
 }
 
-SuiteRun run_suite_case(const SuiteOrgan& organ, SuiteMotion motion, ResponseMethod method) {
-  Real duration = 0;
-  World world = suite_world(organ, motion, duration);
+SimulationSettings suite_settings(ResponseMethod method) {
   SimulationSettings settings;
   settings.collision_period = 0.001;
   settings.response.method = method;
   settings.response.stiffness = 2000;
   settings.response.damping = 5;
   settings.response.max_force = 10;
-  Simulation sim(std::move(world), settings);
+  return settings;
+}
+
+SuiteRun run_suite_case(const SuiteOrgan& organ, SuiteMotion motion, ResponseMethod method) {
+  Real duration = 0;
+  World world = suite_world(organ, motion, duration);
+  Simulation sim(std::move(world), suite_settings(method));
   SuiteRun run;
   run.organ = organ.name;
   run.source = organ.source;

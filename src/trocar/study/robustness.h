@@ -10,6 +10,7 @@
 #include "trocar/core/types.h"
 #include "trocar/mesh/tri_mesh.h"
 #include "trocar/response/settings.h"
+#include "trocar/sim/simulation.h"
 #include "trocar/sim/world.h"
 
 namespace trocar {
@@ -64,6 +65,10 @@ std::vector<SuiteOrgan> organs_in(const std::filesystem::path& dir, const std::s
 /// gravity −z, its preset, implicit Euler) and the instrument moving as `motion` prescribes.
 World suite_world(const SuiteOrgan& organ, SuiteMotion motion, Real& duration);
 
+/// The suite's simulation settings for `method`: detection every 1 ms, stiffness 2000 N/m,
+/// damping 5 N·s/m, max_force 10 N (the shipped scenes' response); metrics on.
+SimulationSettings suite_settings(ResponseMethod method);
+
 /// The figures of one run.
 struct SuiteRun {
   std::string organ, source, motion, method;
@@ -85,8 +90,7 @@ struct SuiteRun {
   bool stable = true;
 };
 
-/// Runs one case with `method` (detection every 1 ms, dt = 1 ms, stiffness 2000 N/m, damping
-/// 5 N·s/m, max_force 10 N: the shipped scenes' response).
+/// Runs one case with `method` and suite_settings(method), dt = 1 ms.
 SuiteRun run_suite_case(const SuiteOrgan& organ, SuiteMotion motion, ResponseMethod method);
 
 }  // namespace trocar
