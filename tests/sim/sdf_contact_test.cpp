@@ -51,32 +51,33 @@ TEST(SdfContact, IsNotYetTheDefaultMethod) {
 }
 
 // The suite's smallest generated organ (2,000 T, 2.5 mm edges) under the hook probe (a 1.2 mm
-// wire). The press meets the contact targets (p99 ≤ 0.5 mm, max ≤ 1 mm, no tunneling). The
-// 1 m/s poke meets the depths, with 2 tunneling events at the impact (hook vertices that cross a
-// face within one step while none of their triangles intersects it). The slide misses them
-// (measured p99 1.11 mm, max 2.33 mm: the wire drags under the surface); its bounds here catch a
-// regression, the target stays open (docs/robustness.md).
+// wire): press, slide and a 1 m/s poke meet the contact targets with sdf (p99 ≤ 0.5 mm, max ≤
+// 1 mm, no tunneling; measured 0.00, 0.00 and 0.02 mm) and stay stable with a force on the tool.
 TEST(SdfContact, PressSlideAndPokeOnAGeneratedOrgan) {
   const std::vector<SuiteOrgan> family = generated_organs(1);
   ASSERT_FALSE(family.empty());
   const SuiteOrgan& organ = family.front();
-  const SuiteRun press = run_suite_case(organ, SuiteMotion::kPress, ResponseMethod::kSdf);
-  const SuiteRun poke = run_suite_case(organ, SuiteMotion::kPoke, ResponseMethod::kSdf);
-  const SuiteRun slide = run_suite_case(organ, SuiteMotion::kSlide, ResponseMethod::kSdf);
-  for (const SuiteRun* r : {&press, &poke, &slide}) {
-    SCOPED_TRACE(r->motion);
-    EXPECT_TRUE(r->stable);
-    EXPECT_GT(r->contact_steps, 100u);
-    EXPECT_GT(r->raw_force_max, 0.01);
+  for (const SuiteMotion motion : {SuiteMotion::kPress, SuiteMotion::kSlide, SuiteMotion::kPoke}) {
+    const SuiteRun r = run_suite_case(organ, motion, ResponseMethod::kSdf);
+    SCOPED_TRACE(r.motion);
+    EXPECT_TRUE(r.stable);
+    EXPECT_GT(r.contact_steps, 100u);
+    EXPECT_GT(r.raw_force_max, 0.01);
+    EXPECT_LE(r.penetration_p99, 0.5e-3);
+    EXPECT_LE(r.penetration_max, 1e-3);
+    EXPECT_EQ(r.tunneling, 0u);
   }
-  EXPECT_LE(press.penetration_p99, 0.5e-3);
-  EXPECT_LE(press.penetration_max, 1e-3);
-  EXPECT_EQ(press.tunneling, 0u);
-  EXPECT_LE(poke.penetration_p99, 0.5e-3);
-  EXPECT_LE(poke.penetration_max, 1e-3);
-  EXPECT_LE(poke.tunneling, 2u);
-  EXPECT_LE(slide.penetration_p99, 1.5e-3);
-  EXPECT_LE(slide.penetration_max, 3e-3);
+}
+
+// A 1.2 mm wire pressed 8 mm into a finer organ (lobe-18K, 1.6 mm edges) ends partly inside:
+// measured p99 4.0 mm. The bound catches a regression; the target is open (docs/robustness.md).
+TEST(SdfContact, DeepPressOnAFineOrganIsAnOpenTarget) {
+  const std::vector<SuiteOrgan> family = generated_organs(1);
+  ASSERT_GE(family.size(), 5u);
+  const SuiteRun r = run_suite_case(family[4], SuiteMotion::kPress, ResponseMethod::kSdf);
+  EXPECT_TRUE(r.stable);
+  EXPECT_LE(r.penetration_p99, 5e-3);
+  EXPECT_LE(r.tunneling, 10u);
 }
 
 }  // namespace

@@ -175,13 +175,12 @@ TEST(Simulation, RestingProbeSettlesWithoutJitter) {
 
 TEST(Simulation, SdfRestingProbeSettles) {
   // The constraint holds the probe with a steady force (deviation ≤ 15 %, never zero) and the
-  // tissue comes to rest, but for a stick–slip of the position friction at single vertices under
-  // the capsule's tip: measured peaks of 4.4 cm/s that decay in ~5 ms, ~every 10 ms (friction off:
-  // below 1 cm/s). The bound is set to catch a regression, not to claim the 1 cm/s of the penalty
-  // methods (docs/response.md, open item).
+  // tissue comes to rest but for brief stick–slip peaks of the position friction under the
+  // capsule's tip (measured 1.5 cm/s at most over the last 200 ms; 0.1 mm/s between them): 2 cm/s
+  // here against the penalty methods' 1 cm/s (docs/response.md).
   const HoldResult r = hold_probe(ResponseMethod::kSdf, true);
   ASSERT_EQ(r.force.size(), 200u);
-  EXPECT_LT(r.speed, 0.06);
+  EXPECT_LT(r.speed, 2e-2);
   EXPECT_GT(*std::min_element(r.force.begin(), r.force.end()), 0.0);
   EXPECT_LT(relative_deviation(r.force), 0.15);
 }

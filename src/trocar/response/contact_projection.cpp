@@ -35,10 +35,12 @@ void ContactProjector::reset(std::size_t vertex_count, std::span<const Triangle>
   start_.assign(vertex_count, Vec3::Zero());
   moved_.clear();
   moved_.reserve(vertex_count);
-  push_sum_.assign(vertex_count, Vec3::Zero());
-  push_weight_.assign(vertex_count, 0);
+  push_.assign(vertex_count, Vec3::Zero());
+  push_length_.assign(vertex_count, 0);
   pushed_.clear();
   pushed_.reserve(vertex_count);
+  round_moved_.clear();
+  round_moved_.reserve(vertex_count);
 }
 
 void ContactProjector::mark_moved(std::uint32_t v, const Vec3& x) {
@@ -84,10 +86,16 @@ ProjectionStats ContactProjector::project(const Instrument& instrument, const In
     }
     mean_edge_ = count > 0 ? sum / static_cast<Real>(count) : 0;
   }
+  top_ = instrument.top_world();
   project_vertices(instrument, field, tissue, settings, true, stats);
-  push_faces(instrument, field, contacts, instrument_object, tissue_object, grasp, tissue, settings,
-             thickness + 2 * sweep, stats);
-  project_vertices(instrument, field, tissue, settings, false, stats);
+  // Gauss–Seidel rounds of (b) then (a): a face push can move a vertex into the tool and a
+  // vertex projection can lift a face over a sample (3 rounds: lobe-8K press p99 0.8 → 0.25 mm).
+  place_samples(instrument, field, contacts, instrument_object, tissue_object, tissue, thickness + 2 * sweep);
+  for (int round = 0; round < std::max(settings.projection_rounds, 1); ++round) {
+    push_faces(instrument, field, contacts, instrument_object, tissue_object, grasp, tissue, settings,
+               thickness + 2 * sweep, stats);
+    project_vertices(instrument, field, tissue, settings, false, stats);
+  }
 
   // Inelastic contact: the correction becomes velocity. The force that moved vertex i by Δx_i
   // over dt (from rest relative to its integrated path) is m_i Δx_i / dt²; the instrument feels
@@ -112,7 +120,7 @@ void ContactProjector::project_vertices(const Instrument& instrument, const Inst
   const Mat3 rt = r.transpose();
   const Vec3& t = instrument.pose().translation;
   const Real margin = settings.contact_margin;
-  for (const std::uint32_t v : candidates_) {
+  for (const std::uint32_t v : first ? std::span<const std::uint32_t>(candidates_) : std::span<const std::uint32_t>(round_moved_)) {
     Vec3& x = tissue.positions[v];
     if (!x.allFinite()) continue;
     const Vec3 q = rt * (x - t);
@@ -160,7 +168,7 @@ void ContactProjector::project_vertices(const Instrument& instrument, const Inst
       moved = true;
       if (first) ++stats.projected;
     }
-    if (!first) {
+    {  // the end-of-step record (each round overwrites it for the vertices it looked at)
       near_step_[v] = step_;
       last_local_[v] = rt * (x - t);
       last_point_[v] = hit.closest_point;
@@ -170,40 +178,103 @@ void ContactProjector::project_vertices(const Instrument& instrument, const Inst
   }
 }
 
+void ContactProjector::place_samples(const Instrument& instrument, const InstrumentField& field,
+                                     std::span<const Contact> contacts, std::uint32_t instrument_object,
+                                     std::uint32_t tissue_object, const ProjectedTissue& tissue, Real depth_limit) {
+  const std::size_t n = tissue.positions.size();
+  const std::size_t nt = tissue.triangles.size();
+  const Mat3 r = instrument.pose().rotation_matrix();
+  const Vec3& t = instrument.pose().translation;
+  // The instrument's points near the tissue's candidates (the box of the candidate vertices and
+  // the contacts' faces, grown by the depth limit), in the world.
+  Aabb near;
+  for (const std::uint32_t v : candidates_) near.expand(tissue.positions[v]);
+  for (const Contact& c : contacts)
+    if (c.kind == ContactKind::kInstrumentTissue && c.object_a == instrument_object &&
+        c.object_b == tissue_object && c.triangle_b < nt)
+      for (const std::uint32_t v : tissue.triangles[c.triangle_b])
+        if (v < n) near.expand(tissue.positions[v]);
+  near = near.inflated(depth_limit);
+  const std::span<const Vec3> samples = field.samples();
+  if (world_samples_.size() != samples.size()) {
+    world_samples_.assign(samples.size(), Vec3::Zero());  // the first step only
+    grid_start_.reserve(4097);
+    grid_fill_.reserve(4097);
+    grid_samples_.reserve(samples.size());
+    active_samples_.clear();
+    active_samples_.reserve(samples.size());
+  }
+  active_samples_.clear();
+  Aabb active;
+  if (!near.is_empty())
+    for (std::uint32_t k = 0; k < samples.size(); ++k) {
+      const Vec3 p = t + r * samples[k];
+      if (!near.contains(p)) continue;
+      world_samples_[k] = p;
+      active.expand(p);
+      active_samples_.push_back(k);
+    }
+  // A uniform grid over the active samples (counting sort into cells of about a tissue edge,
+  // at most kMaxCells), so that a face visits only the samples in the cells its box covers.
+  grid_box_ = active;
+  grid_n_ = {0, 0, 0};
+  if (active.is_empty()) return;
+  constexpr std::size_t kMaxCells = 4096;
+  const Vec3 size = active.size();
+  grid_cell_ = std::max({std::max(mean_edge_, Real{1e-4}), size.maxCoeff() / 64});
+  while (true) {
+    for (int k = 0; k < 3; ++k) grid_n_[k] = static_cast<std::size_t>(size[k] / grid_cell_) + 1;
+    if (grid_n_[0] * grid_n_[1] * grid_n_[2] <= kMaxCells) break;
+    grid_cell_ *= 1.5;
+  }
+  const std::size_t cells = grid_n_[0] * grid_n_[1] * grid_n_[2];
+  grid_start_.assign(cells + 1, 0);  // sized kMaxCells + 1 at most: reserved in reset
+  for (const std::uint32_t k : active_samples_) ++grid_start_[grid_cell_of(world_samples_[k]) + 1];
+  for (std::size_t c = 0; c < cells; ++c) grid_start_[c + 1] += grid_start_[c];
+  grid_fill_.assign(grid_start_.begin(), grid_start_.end() - 1);
+  grid_samples_.resize(active_samples_.size());
+  for (const std::uint32_t k : active_samples_) grid_samples_[grid_fill_[grid_cell_of(world_samples_[k])]++] = k;
+}
+
 void ContactProjector::push_faces(const Instrument& instrument, const InstrumentField& field,
                                   std::span<const Contact> contacts, std::uint32_t instrument_object,
                                   std::uint32_t tissue_object, const Grasp& grasp, const ProjectedTissue& tissue,
                                   const ResponseSettings& settings, Real depth_limit, ProjectionStats& stats) {
+  ++face_round_;
   const std::size_t n = tissue.positions.size();
   const std::size_t nt = tissue.triangles.size();
+  const Mat3 rt = instrument.pose().rotation_matrix().transpose();
+  const Vec3& t = instrument.pose().translation;
+  if (active_samples_.empty()) return;
   for (const Contact& c : contacts) {
     if (c.kind != ContactKind::kInstrumentTissue || c.object_a != instrument_object || c.object_b != tissue_object)
       continue;
-    if (c.triangle_b < nt) push_face(instrument, c.triangle_b, grasp, tissue, settings, depth_limit, stats);
+    if (c.triangle_b < nt) push_face(field, c.triangle_b, grasp, tissue, settings, depth_limit, stats);
   }
-  const Mat3 rt = instrument.pose().rotation_matrix().transpose();
-  const Vec3& t = instrument.pose().translation;
   const Real reach = cull_ + 2 * mean_edge_;
   for (const std::uint32_t v : candidates_) {
     if (v >= n || !tissue.positions[v].allFinite()) continue;
     if (field.lower_bound(rt * (tissue.positions[v] - t)) > reach) continue;
     for (std::uint32_t k = vertex_first_[v]; k < vertex_first_[v + 1]; ++k)
-      push_face(instrument, vertex_faces_[k], grasp, tissue, settings, depth_limit, stats);
+      push_face(field, vertex_faces_[k], grasp, tissue, settings, depth_limit, stats);
   }
+  round_moved_.clear();
   for (const std::uint32_t v : pushed_) {
     mark_moved(v, tissue.positions[v]);
-    tissue.positions[v] += push_sum_[v] / push_weight_[v];
-    push_sum_[v].setZero();
-    push_weight_[v] = 0;
+    round_moved_.push_back(v);
+    const Real direction = push_[v].norm();
+    if (direction > 0) tissue.positions[v] += (push_length_[v] / direction) * push_[v];
+    push_[v].setZero();
+    push_length_[v] = 0;
   }
   pushed_.clear();
 }
 
-void ContactProjector::push_face(const Instrument& instrument, std::uint32_t triangle, const Grasp& grasp,
+void ContactProjector::push_face(const InstrumentField& field, std::uint32_t triangle, const Grasp& grasp,
                                  const ProjectedTissue& tissue, const ResponseSettings& settings, Real depth_limit,
                                  ProjectionStats& stats) {
-  if (face_step_[triangle] == step_) return;  // once per step
-  face_step_[triangle] = step_;
+  if (face_step_[triangle] == face_round_) return;  // once per round
+  face_step_[triangle] = face_round_;
   const std::size_t n = tissue.positions.size();
   const Triangle& tb = tissue.triangles[triangle];
   if (tb[0] >= n || tb[1] >= n || tb[2] >= n) return;
@@ -216,40 +287,66 @@ void ContactProjector::push_face(const Instrument& instrument, std::uint32_t tri
   const Vec3 n_out = cross / area2;
   // The far side of the organ from the instrument (its top vertex inside this face's plane) is
   // never pushed: that is where a pierced or deeply pressed organ's other surface is.
-  if (settings.pierce_filter && n_out.dot(instrument.top_world() - b0) < 0) return;
+  if (settings.pierce_filter && n_out.dot(top_ - b0) < 0) return;
   Aabb face;
   face.expand(b0);
   face.expand(b1);
   face.expand(b2);
-  face = face.inflated(depth_limit);
+  // The prism under the face, boxed: grown along each axis by the depth limit's share of the
+  // normal there (a horizontal face grows only downward-and-up in z), plus a little for the
+  // barycentric tolerance below.
+  const Vec3 grow = depth_limit * n_out.cwiseAbs() + Vec3::Constant(0.02 * std::max(mean_edge_, Real{0}) + 1e-6);
+  face.min -= grow;
+  face.max += grow;
   const Real margin = settings.contact_margin;
-  const std::span<const Vec3> points = instrument.world_positions();
-  for (std::size_t ia = 0; ia < points.size(); ++ia) {
-    const Vec3& a = points[ia];
-    if (!face.contains(a)) continue;
+  if (!face.overlaps(grid_box_)) return;
+  std::array<std::size_t, 3> lo{}, hi{};
+  for (int k = 0; k < 3; ++k) {
+    const Real a = std::max(Real{0}, (face.min[k] - grid_box_.min[k]) / grid_cell_);
+    const Real b = std::max(Real{0}, (face.max[k] - grid_box_.min[k]) / grid_cell_);
+    lo[k] = std::min(static_cast<std::size_t>(a), grid_n_[k] - 1);
+    hi[k] = std::min(static_cast<std::size_t>(b), grid_n_[k] - 1);
+  }
+  for (std::size_t cz = lo[2]; cz <= hi[2]; ++cz)
+    for (std::size_t cy = lo[1]; cy <= hi[1]; ++cy)
+      for (std::size_t cx = lo[0]; cx <= hi[0]; ++cx) {
+        const std::size_t cell = (cz * grid_n_[1] + cy) * grid_n_[0] + cx;
+        for (std::uint32_t g = grid_start_[cell]; g < grid_start_[cell + 1]; ++g)
+          push_sample(grid_samples_[g], tb, n_out, b0, b1, b2, face, grasp, tissue, field, margin, depth_limit, stats);
+      }
+}
+
+void ContactProjector::push_sample(std::uint32_t ks, const Triangle& tb, const Vec3& n_out, const Vec3& b0,
+                                   const Vec3& b1, const Vec3& b2, const Aabb& face, const Grasp& grasp,
+                                   const ProjectedTissue& tissue, const InstrumentField& field, Real margin,
+                                   Real depth_limit, ProjectionStats& stats) {
+  const Vec3& a = world_samples_[ks];
+  if (!face.contains(a)) return;
     const Real d = n_out.dot(a - b0);
-    if (!(d < 0) || d < -depth_limit) continue;
+    if (!(d < 0) || d < -depth_limit) return;
     Vec3 w = barycentric(a - d * n_out, b0, b1, b2);
     // Over this face, to a small tolerance so that a vertex under the crease between two faces is
-    // answered by both (their pushes are averaged).
-    if (!(w.minCoeff() >= -0.02)) continue;
+    // answered by both (each tissue vertex keeps the longer push).
+    if (!(w.minCoeff() >= -0.02)) return;
     w = w.cwiseMax(0);
     w /= w.sum();
     for (int k = 0; k < 3; ++k)
       if (tissue.fixed[tb[k]] != 0 || grasp.is_grasped(tb[k])) w[k] = 0;
     const Real w2 = w.squaredNorm();
-    if (!(w2 > 0)) continue;
+    if (!(w2 > 0)) return;
     const Vec3 delta = (d - margin) * n_out;
     for (int k = 0; k < 3; ++k) {
-      if (w[k] <= 0) continue;
+      if (w[k] <= 0) return;
       const std::uint32_t v = tb[k];
-      if (push_weight_[v] == 0) pushed_.push_back(v);
-      push_sum_[v] += w[k] * (w[k] / w2) * delta;
-      push_weight_[v] += w[k];
+      const Vec3 push = (w[k] / w2) * delta;
+      const Real length = push.norm();
+      if (push_length_[v] == 0) pushed_.push_back(v);
+      push_[v] += w[k] * push;  // the direction: the weighted mean of the pushes
+      push_length_[v] = std::max(push_length_[v], length);  // the length: the longest
     }
     ++stats.face_pushes;
-    if (ia < hits_.size()) hits_[ia] = 1;
-  }
+    for (const std::uint32_t iv : field.sample_vertices()[ks])
+      if (iv < hits_.size()) hits_[iv] = 1;
 }
 
 }  // namespace trocar

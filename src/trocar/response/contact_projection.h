@@ -2,6 +2,8 @@
 /// The `sdf` response: contact as a position constraint that a position-driven instrument
 /// enforces on the tissue (docs/response.md "Contact as a constraint"). Runs after the tissue's
 /// integration, so the tissue's implicit system never sees a stiff penalty term.
+#include <algorithm>
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -60,7 +62,8 @@ struct ProjectionStats {
 ///      the triangle's point under a moves so that a ends `margin` outside), averaged over a
 ///      vertex's pushes. This keeps a thin tip from poking between coarse tissue vertices.
 ///      Triangles that the pierce filter discards (top vertex inside their plane) are skipped.
-///  Then (a) again, so that the tissue vertices end outside. Each moved vertex's velocity gets
+///  Then (a) again, so that the tissue vertices end outside; (b) and (a) repeat
+///  `projection_rounds` times (Gauss–Seidel). Each moved vertex's velocity gets
 ///  Δx/dt (the contact is inelastic along the normal; the instrument's velocity is imposed).
 ///  Fixed and grasped vertices are never moved. `max_force` plays no part here: it clamps only
 ///  the force reported to the instrument.
@@ -82,19 +85,27 @@ class ContactProjector {
                           const ProjectedTissue& tissue, Real thickness, Real dt, const ResponseSettings& settings);
 
  private:
-  /// Pass (a) over the candidates; `first` is the round that applies friction and the
-  /// previous-plane rule.
+  /// Pass (a) over the candidates (`first`: the round that applies friction and the
+  /// previous-plane rule), or over the vertices the last pass (b) moved.
   void project_vertices(const Instrument& instrument, const InstrumentField& field, const ProjectedTissue& tissue,
                         const ResponseSettings& settings, bool first, ProjectionStats& stats);
+  /// The field's samples near this step's tissue candidates, in the world (once per step).
+  void place_samples(const Instrument& instrument, const InstrumentField& field, std::span<const Contact> contacts,
+                     std::uint32_t instrument_object, std::uint32_t tissue_object, const ProjectedTissue& tissue,
+                     Real depth_limit);
   /// Pass (b) over the contacts' and the nearby triangles.
   void push_faces(const Instrument& instrument, const InstrumentField& field, std::span<const Contact> contacts,
                   std::uint32_t instrument_object, std::uint32_t tissue_object, const Grasp& grasp,
                   const ProjectedTissue& tissue, const ResponseSettings& settings, Real depth_limit,
                   ProjectionStats& stats);
   /// Pass (b) for one triangle.
-  void push_face(const Instrument& instrument, std::uint32_t triangle, const Grasp& grasp,
+  void push_face(const InstrumentField& field, std::uint32_t triangle, const Grasp& grasp,
                  const ProjectedTissue& tissue, const ResponseSettings& settings, Real depth_limit,
                  ProjectionStats& stats);
+  /// One sample against one face (push_face's inner step).
+  void push_sample(std::uint32_t sample, const Triangle& tb, const Vec3& n_out, const Vec3& b0, const Vec3& b1,
+                   const Vec3& b2, const Aabb& face, const Grasp& grasp, const ProjectedTissue& tissue,
+                   const InstrumentField& field, Real margin, Real depth_limit, ProjectionStats& stats);
   /// Records the start position of vertex v the first time it moves this step.
   void mark_moved(std::uint32_t v, const Vec3& x);
 
@@ -110,14 +121,32 @@ class ContactProjector {
   std::vector<std::uint64_t> moved_step_;   ///< step in which the vertex was last moved
   std::vector<Vec3> start_;                 ///< its position before this step's projection
   std::vector<std::uint32_t> moved_;        ///< vertices moved this step
-  std::vector<Vec3> push_sum_;              ///< pass (b): Σ w·Δx per vertex
-  std::vector<Real> push_weight_;           ///< pass (b): Σ w per vertex
+  std::vector<Vec3> push_;                  ///< pass (b): Σ w·push per vertex (the direction)
+  std::vector<Real> push_length_;           ///< pass (b): the longest push's length (0: none yet)
+  std::vector<Vec3> world_samples_;         ///< pass (b): the field's samples in the world
+  Aabb grid_box_;                           ///< pass (b): box of the active samples (world)
+  Real grid_cell_ = 0;                      ///< pass (b): cell edge of their grid (m)
+  std::array<std::size_t, 3> grid_n_{};     ///< pass (b): cells per axis
+  std::vector<std::uint32_t> grid_start_;   ///< pass (b): CSR of the samples per cell
+  std::vector<std::uint32_t> grid_fill_;    ///< pass (b): fill cursor while sorting
+  std::vector<std::uint32_t> grid_samples_; ///< pass (b): sample ids, cell by cell
+  /// The grid cell of world point p (inside grid_box_).
+  std::size_t grid_cell_of(const Vec3& p) const {
+    std::size_t c[3];
+    for (int k = 0; k < 3; ++k)
+      c[k] = std::min(static_cast<std::size_t>(std::max(Real{0}, (p[k] - grid_box_.min[k]) / grid_cell_)), grid_n_[k] - 1);
+    return (c[2] * grid_n_[1] + c[1]) * grid_n_[0] + c[0];
+  }
+  std::vector<std::uint32_t> active_samples_;  ///< pass (b): samples near the tissue candidates
   std::vector<std::uint32_t> pushed_;       ///< pass (b): vertices with a push
+  std::vector<std::uint32_t> round_moved_;  ///< the vertices the last pass (b) moved (rechecked by (a))
   std::vector<std::uint32_t> vertex_first_; ///< CSR: triangles of vertex v are
   std::vector<std::uint32_t> vertex_faces_; ///< vertex_faces_[vertex_first_[v] .. vertex_first_[v+1])
-  std::vector<std::uint64_t> face_step_;    ///< step in which a triangle was last pushed against
+  std::vector<std::uint64_t> face_step_;    ///< face round in which a triangle was last pushed against
+  std::uint64_t face_round_ = 0;            ///< push_faces() calls so far
   Real mean_edge_ = -1;                     ///< mean tissue edge at the first projection (m)
   std::vector<std::uint8_t> hits_;          ///< see instrument_hits()
+  Vec3 top_ = Vec3::Zero();                 ///< the instrument's top vertex this step (world)
 };
 
 }  // namespace trocar

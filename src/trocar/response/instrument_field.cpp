@@ -6,9 +6,29 @@
 
 namespace trocar {
 
-InstrumentField::InstrumentField(const TriMesh& local_mesh, Real pad, std::size_t max_cells) {
+InstrumentField::InstrumentField(const TriMesh& local_mesh, Real pad, std::size_t max_cells, Real sample_spacing) {
   if (local_mesh.triangles.empty()) return;
+  for (std::uint32_t v = 0; v < local_mesh.positions.size(); ++v) {
+    samples_.push_back(local_mesh.positions[v]);
+    sample_vertices_.push_back({v, v});
+  }
+  std::vector<std::array<std::uint32_t, 2>> edges;
+  for (const Triangle& t : local_mesh.triangles)
+    for (int k = 0; k < 3; ++k) edges.push_back({std::min(t[k], t[(k + 1) % 3]), std::max(t[k], t[(k + 1) % 3])});
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  if (sample_spacing > 0)
+    for (const auto& e : edges) {
+      const Vec3& a = local_mesh.positions[e[0]];
+      const Vec3& b = local_mesh.positions[e[1]];
+      const auto pieces = static_cast<std::size_t>(std::ceil((b - a).norm() / sample_spacing));
+      for (std::size_t k = 1; k < pieces; ++k) {
+        samples_.push_back(a + (b - a) * (static_cast<Real>(k) / static_cast<Real>(pieces)));
+        sample_vertices_.push_back(e);
+      }
+    }
   exact_.emplace(local_mesh.positions, local_mesh.triangles);
+  for (const Vec3& p : samples_) sample_normals_.push_back(exact_->signed_distance(p).pseudonormal);
   box_ = Aabb::of_points(local_mesh.positions).inflated(pad);
   const Vec3 size = box_.size();
   // Cubic cells: h³·cells ≈ box volume, rounded up per axis.

@@ -2,6 +2,7 @@
 /// The signed distance to a rigid instrument, in the instrument's own frame, for the `sdf`
 /// response (docs/response.md "Contact as a constraint"). Built once when the instrument is
 /// loaded: the instrument never deforms, so its distance needs no refit, only the pose's inverse.
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -28,7 +29,9 @@ class InstrumentField {
   /// Builds the field of `local_mesh` (metres, the instrument's local frame; closed and outward
   /// for the sign to mean inside). `pad` (m) grows the grid's box; the grid has at most
   /// `max_cells` cells (cubic cells, edge chosen to fit). Allocates; O(max_cells) exact queries.
-  explicit InstrumentField(const TriMesh& local_mesh, Real pad = 0.004, std::size_t max_cells = 1u << 16);
+  /// `sample_spacing` (m) sets samples().
+  explicit InstrumentField(const TriMesh& local_mesh, Real pad = 0.004, std::size_t max_cells = 1u << 16,
+                           Real sample_spacing = 0.001);
 
   /// A value ≤ the signed distance of local point p (m); +inf for an empty mesh. No allocation.
   Real lower_bound(const Vec3& p) const;
@@ -43,6 +46,16 @@ class InstrumentField {
   /// True when built from a mesh with triangles.
   bool empty() const { return values_.empty(); }
 
+  /// Points on the instrument's surface for the face pushes of the sdf response (local frame):
+  /// every vertex, then points every `sample_spacing` along each edge longer than it (a tissue
+  /// face can close over the middle of a 5 mm wire segment that has vertices only at its ends).
+  std::span<const Vec3> samples() const { return samples_; }
+  /// For each sample, the instrument vertices it stands for: a vertex twice, an edge point its
+  /// edge's two ends.
+  std::span<const std::array<std::uint32_t, 2>> sample_vertices() const { return sample_vertices_; }
+  /// For each sample, the instrument's unit outward pseudonormal there (local frame).
+  std::span<const Vec3> sample_normals() const { return sample_normals_; }
+
  private:
   std::optional<MeshDistance> exact_;
   Aabb box_;
@@ -50,6 +63,9 @@ class InstrumentField {
   Real slack_ = 0;  ///< h√3/2
   std::size_t nx_ = 0, ny_ = 0, nz_ = 0;
   std::vector<float> values_;  ///< d(c) − slack at each cell centre, rounded down to float
+  std::vector<Vec3> samples_;
+  std::vector<std::array<std::uint32_t, 2>> sample_vertices_;
+  std::vector<Vec3> sample_normals_;
 };
 
 }  // namespace trocar

@@ -57,6 +57,8 @@ struct ResponseSettings {
   /// sdf: static friction coefficient μs (tangential motion relative to the instrument is removed
   /// while it is ≤ μs × the normal correction); 0 turns friction off.
   Real friction_static = 0.6;
+  /// sdf: rounds of the face pushes and the vertex projection after the first projection (≥ 1).
+  int projection_rounds = 3;
   /// sdf: kinetic friction coefficient μk (sliding motion shortened by μk × the normal correction).
   Real friction_kinetic = 0.6;
 };

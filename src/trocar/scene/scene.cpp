@@ -198,7 +198,7 @@ void read_collision(const JsonReader& c, Scene& scene) {
 
 void read_response(const JsonReader& r, Scene& scene) {
   r.expect_keys({"method", "stiffness", "damping", "max_force", "resting_speed", "grasp_closure", "pierce_filter",
-                 "depth_cap", "correction_speed", "contact_margin", "friction_static", "friction_kinetic"});
+                 "depth_cap", "correction_speed", "contact_margin", "friction_static", "friction_kinetic", "projection_rounds"});
   ResponseSettings& s = scene.settings.response;
   if (r.has("method")) {
     const JsonReader m = r.at("method");
@@ -221,6 +221,7 @@ void read_response(const JsonReader& r, Scene& scene) {
   if (r.has("contact_margin")) s.contact_margin = r.at("contact_margin").number_at_least(0);
   if (r.has("friction_static")) s.friction_static = r.at("friction_static").number_at_least(0);
   if (r.has("friction_kinetic")) s.friction_kinetic = r.at("friction_kinetic").number_at_least(0);
+  if (r.has("projection_rounds")) s.projection_rounds = static_cast<int>(r.at("projection_rounds").integer(1, 100));
 }
 
 }  // namespace

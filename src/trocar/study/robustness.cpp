@@ -165,10 +165,12 @@ std::vector<SuiteOrgan> organs_in(const std::filesystem::path& dir, const std::s
     TriMesh mesh = load_mesh(file);
     repair(mesh);
     if (mesh.triangles.empty()) throw Error(file.string() + ": no triangles after repair");
-    // File units from the box: organs are 3–50 cm long. Longest extent > 3 → millimetres;
-    // > 0.6 → centimetres; else metres.
+    // File units from the box: of metres, centimetres and millimetres, the one that makes the
+    // longest extent nearest 15 cm on a log scale (organs are 3–50 cm long).
     const Real extent = Aabb::of_points(mesh.positions).size().maxCoeff();
-    const Real scale = extent > 3 ? 1e-3 : extent > 0.6 ? 1e-2 : 1;
+    Real scale = 1;
+    for (const Real s : {Real{1e-2}, Real{1e-3}})
+      if (std::abs(std::log(extent * s / 0.15)) < std::abs(std::log(extent * scale / 0.15))) scale = s;
     for (Vec3& p : mesh.positions) p *= scale;
     centre(mesh);
     const std::string name = lower(stem);
@@ -266,7 +268,9 @@ SuiteRun run_suite_case(const SuiteOrgan& organ, SuiteMotion motion, ResponseMet
     deform_us.push_back(m.timings.deformation);
     cg_sum += m.cg_iterations;
     run.cg_max = std::max(run.cg_max, m.cg_iterations);
-    if (m.contacts > 0) {
+    Real force = 0;
+    for (const InstrumentMetrics& im : sim.instrument_metrics()) force = std::max(force, im.raw_force.norm());
+    if (m.contacts > 0 || force > 0) {  // sdf keeps the surfaces apart: its contact is the force
       ++run.contact_steps;
       cg_contact_sum += m.cg_iterations;
       deform_contact_ns.push_back(m.timings.deformation * per_vertex);

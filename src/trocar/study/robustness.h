@@ -54,9 +54,8 @@ OrganTarget organ_target(const TriMesh& mesh);
 /// The generated family (mesh/organ_shapes.h) as suite organs, preset "liver".
 std::vector<SuiteOrgan> generated_organs(std::uint64_t seed = 1);
 /// The organ meshes of `dir` (OBJ, STL, PLY, VRML, VTK; instrument meshes — names with probe,
-/// grasper, jaw, laparoscope, trocar — are left out), repaired, scaled to metres (file units
-/// guessed from the box: extents over 1 are millimetres, over 0.3 centimetres... see
-/// docs/robustness.md), centred; the preset from the name (liver, gallbladder, stomach,
+/// grasper, jaw, laparoscope, trocar — are left out), repaired, scaled to metres (the unit of
+/// m, cm, mm that makes the longest extent nearest 15 cm on a log scale), centred; the preset from the name (liver, gallbladder, stomach,
 /// abdominal_wall, else liver). A missing folder gives none; an unreadable mesh throws with its
 /// file name.
 std::vector<SuiteOrgan> organs_in(const std::filesystem::path& dir, const std::string& source);
@@ -76,12 +75,13 @@ struct SuiteRun {
   std::size_t steps = 0;
   double step_median_us = 0, step_p99_us = 0;  ///< the step without the metrics stage
   double deform_median_us = 0, deform_p99_us = 0;
-  /// Deformation per vertex over the steps with contact (ns; median), 0 without contact.
+  /// Deformation per vertex over the steps with contact (ns; median), 0 without contact (see
+  /// contact_steps).
   double deform_ns_per_vertex_contact = 0;
   double cg_mean = 0;          ///< CG iterations per step, mean
-  double cg_mean_contact = 0;  ///< the same over steps with contact
+  double cg_mean_contact = 0;  ///< the same over the steps with contact (contact_steps)
   std::uint32_t cg_max = 0;
-  std::size_t contact_steps = 0;
+  std::size_t contact_steps = 0;  ///< steps with a detected contact or a force on the instrument
   Real penetration_p99 = 0;  ///< m, over steps with a vertex inside (0 if none)
   Real penetration_max = 0;  ///< m
   std::uint64_t tunneling = 0;
