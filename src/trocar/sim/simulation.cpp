@@ -276,7 +276,11 @@ void Simulation::deform(Real dt) {
       s.apply_corrections(tissue.state.positions);
       s.apply_grasp(world_.instruments[i].instrument, tissue.state.positions, tissue.state.velocities);
     }
-    if (!projectors_.empty()) project_contacts(t, dt);
+    if (!projectors_.empty()) {
+      const Timer projection;
+      project_contacts(t, dt);
+      metrics_.timings.projection += projection.microseconds();
+    }
   }
 }
 

@@ -37,7 +37,8 @@ struct StageTimings {
   double broad_phase = 0;   ///< candidate pairs (0 on steps without detection)
   double narrow_phase = 0;  ///< exact triangle tests
   double response = 0;      ///< contacts → loads
-  double deformation = 0;   ///< integrators, corrections, grasps
+  double deformation = 0;   ///< integrators, corrections, grasps, and the sdf projection
+  double projection = 0;    ///< of deformation: the sdf response's projection (0 for other methods)
   double metrics = 0;       ///< penetration, tunneling, energies (and the start-surface copy)
   double step = 0;          ///< the whole step
 };

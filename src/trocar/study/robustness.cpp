@@ -256,7 +256,7 @@ SuiteRun run_suite_case(const SuiteOrgan& organ, SuiteMotion motion, ResponseMet
   run.triangles = organ.mesh.triangle_count();
   constexpr Real dt = 0.001;
   run.steps = static_cast<std::size_t>(std::ceil(duration / dt - 1e-9));
-  std::vector<double> step_us, deform_us, deform_contact_ns;
+  std::vector<double> step_us, deform_us, deform_contact_ns, projection_us;
   std::vector<Real> depths;
   step_us.reserve(run.steps);
   deform_us.reserve(run.steps);
@@ -273,7 +273,8 @@ SuiteRun run_suite_case(const SuiteOrgan& organ, SuiteMotion motion, ResponseMet
     if (m.contacts > 0 || force > 0) {  // sdf keeps the surfaces apart: its contact is the force
       ++run.contact_steps;
       cg_contact_sum += m.cg_iterations;
-      deform_contact_ns.push_back(m.timings.deformation * per_vertex);
+      deform_contact_ns.push_back((m.timings.deformation - m.timings.projection) * per_vertex);
+      projection_us.push_back(m.timings.projection);
     }
     if (m.vertices_inside > 0) depths.push_back(m.penetration_max);
     run.penetration_max = std::max(run.penetration_max, m.penetration_max);
@@ -292,6 +293,7 @@ SuiteRun run_suite_case(const SuiteOrgan& organ, SuiteMotion motion, ResponseMet
   run.deform_median_us = quantile(deform_us, 0.5);
   run.deform_p99_us = quantile(deform_us, 0.99);
   run.deform_ns_per_vertex_contact = quantile(deform_contact_ns, 0.5);
+  run.projection_median_us = quantile(projection_us, 0.5);
   run.cg_mean = step_us.empty() ? 0 : cg_sum / static_cast<double>(step_us.size());
   run.cg_mean_contact = run.contact_steps == 0 ? 0 : cg_contact_sum / static_cast<double>(run.contact_steps);
   run.penetration_p99 = quantile(depths, 0.99);
