@@ -121,6 +121,21 @@ TEST(Scene, UnknownPresetIntegratorMethodGeneratorAndBroadPhase) {
             "scene.json: tissues[0].mesh.radius: must be > 0");
 }
 
+TEST(Scene, SdfResponseKeys) {
+  const Scene s = parse_scene(R"({"schema": 1, "response": {"method": "sdf", "contact_margin": 0.0001,
+                                 "friction_static": 0.3, "friction_kinetic": 0.2, "projection_rounds": 5}})",
+                              "scene.json", ".");
+  EXPECT_EQ(s.settings.response.method, ResponseMethod::kSdf);
+  EXPECT_DOUBLE_EQ(s.settings.response.contact_margin, 0.0001);
+  EXPECT_DOUBLE_EQ(s.settings.response.friction_static, 0.3);
+  EXPECT_DOUBLE_EQ(s.settings.response.friction_kinetic, 0.2);
+  EXPECT_EQ(s.settings.response.projection_rounds, 5);
+  EXPECT_EQ(error_of(R"({"schema": 1, "response": {"friction_static": -1}})"),
+            "scene.json: response.friction_static: must be >= 0");
+  EXPECT_NE(error_of(R"({"schema": 1, "response": {"projection_rounds": 0}})").find("scene.json: response.projection_rounds: "),
+            std::string::npos);
+}
+
 TEST(Scene, SchemaKeyframesAndTopVertexAreChecked) {
   EXPECT_EQ(error_of(R"({"tissues": []})"), "scene.json: schema: missing (required)");
   EXPECT_EQ(error_of(R"({"schema": 2})"), "scene.json: schema: must be in [1, 1], not 2");
