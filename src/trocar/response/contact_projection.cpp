@@ -43,6 +43,16 @@ void ContactProjector::reset(std::size_t vertex_count, std::span<const Triangle>
   round_moved_.reserve(vertex_count);
 }
 
+void ContactProjector::size_for(const InstrumentField& field) {
+  const std::size_t samples = field.samples().size();
+  world_samples_.assign(samples, Vec3::Zero());
+  active_samples_.clear();
+  active_samples_.reserve(samples);
+  grid_start_.reserve(4097);
+  grid_fill_.reserve(4097);
+  grid_samples_.reserve(samples);
+}
+
 void ContactProjector::mark_moved(std::uint32_t v, const Vec3& x) {
   if (moved_step_[v] == step_) return;
   moved_step_[v] = step_;
@@ -196,14 +206,7 @@ void ContactProjector::place_samples(const Instrument& instrument, const Instrum
         if (v < n) near.expand(tissue.positions[v]);
   near = near.inflated(depth_limit);
   const std::span<const Vec3> samples = field.samples();
-  if (world_samples_.size() != samples.size()) {
-    world_samples_.assign(samples.size(), Vec3::Zero());  // the first step only
-    grid_start_.reserve(4097);
-    grid_fill_.reserve(4097);
-    grid_samples_.reserve(samples.size());
-    active_samples_.clear();
-    active_samples_.reserve(samples.size());
-  }
+  if (world_samples_.size() != samples.size()) size_for(field);  // without size_for(): allocates once
   active_samples_.clear();
   Aabb active;
   if (!near.is_empty())

@@ -74,6 +74,9 @@ class ContactProjector {
   /// Sizes the per-vertex state for a tissue of `vertex_count` vertices and these triangles
   /// (builds the vertex → triangle lists of pass (b)).
   void reset(std::size_t vertex_count, std::span<const Triangle> triangles, std::size_t instrument_vertices = 0);
+  /// Sizes the per-sample buffers for `field`'s instrument (call after reset(), before the first
+  /// project(); otherwise the first projection with a contact allocates them).
+  void size_for(const InstrumentField& field);
   /// Per instrument vertex: 1 when it pushed a tissue face in the last project() (pass (b)): the
   /// projection found and answered that vertex's contact itself (the tunneling metric counts it as
   /// seen, like a vertex of a detected contact). Sized by reset()'s instrument_vertices.

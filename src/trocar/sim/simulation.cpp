@@ -127,9 +127,11 @@ Simulation::Simulation(World world, const SimulationSettings& settings)
     for (const InstrumentBody& body : world_.instruments) fields_.emplace_back(body.instrument.local_mesh());
     projectors_.resize(ni * nt);
     for (std::size_t i = 0; i < ni; ++i)
-      for (std::size_t t = 0; t < nt; ++t)
+      for (std::size_t t = 0; t < nt; ++t) {
         projectors_[i * nt + t].reset(world_.tissues[t]->settings.vertex_count(), world_.tissues[t]->settings.triangles,
                                       world_.instruments[i].instrument.world_positions().size());
+        projectors_[i * nt + t].size_for(fields_[i]);
+      }
   }
   loads_.resize(ni);
   instrument_metrics_.resize(ni);
