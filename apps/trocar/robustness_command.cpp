@@ -137,7 +137,7 @@ bool write_plots(const fs::path& dir, const std::vector<SuiteRun>& runs) {
   }
   gp << ", 1000 with lines dt 2 title '1 ms'\n"
         "set output 'penetration_p99.svg'\nset ylabel 'p99 penetration (mm)'\nset logscale y\n"
-        "set title 'p99 penetration vs organ size (every motion)'\nplot ";
+        "set title 'p99 penetration vs organ size (every motion; runs at 0 not drawn on the log scale)'\nplot ";
   first = true;
   for (const auto& [method, unused] : methods) {
     gp << (first ? "" : ", \\\n     ") << "'robustness.csv' using 4:((strcol(6) eq '" << method
