@@ -7,23 +7,15 @@
 #include "trocar/mesh/generate.h"
 #include "trocar/mesh/topology.h"
 #include "trocar/mesh/validate.h"
+#include "mesh_test_util.h"
 
 namespace trocar {
 namespace {
 
+using test::min_plane_distance;
+
 constexpr Real kPi = std::numbers::pi_v<Real>;
 
-/// Smallest distance from the origin to a triangle's plane over all triangles. A closed
-/// convex polyhedron contains the ball of that radius, so its volume ≥ 4/3·π·d³ and its area
-/// ≥ 4π·d² (a convex body containing another has the larger surface area).
-Real min_plane_distance(const TriMesh& m) {
-  Real d = std::numeric_limits<Real>::infinity();
-  for (std::size_t t = 0; t < m.triangles.size(); ++t) {
-    const Vec3 n = m.triangle_normal_area2(t).normalized();
-    d = std::min(d, n.dot(m.positions[m.triangles[t][0]]));
-  }
-  return d;
-}
 
 TEST(Generate, IcosphereCountsAndClean) {
   for (int n = 0; n <= 4; ++n) {

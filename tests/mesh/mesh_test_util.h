@@ -1,5 +1,8 @@
 #pragma once
-// Small meshes made in code for the topology/validate/repair tests.
+// Small meshes made in code for the topology/validate/repair tests, and shared measurements.
+#include <algorithm>
+#include <limits>
+
 #include "trocar/mesh/tri_mesh.h"
 
 namespace trocar::test {
@@ -19,6 +22,20 @@ inline TriMesh unit_cube() {
   m.triangles = {{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}, {0, 1, 5}, {0, 5, 4},
                  {2, 6, 7}, {2, 7, 3}, {0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}};
   return m;
+}
+
+/// Smallest distance from the origin to a triangle's plane over all triangles. A closed mesh
+/// whose triangles all face away from the origin and whose cones over them tile the directions
+/// (a convex polyhedron round the origin, a star-shaped organ) contains the ball of that radius,
+/// so its volume is ≥ 4/3·π·d³; a convex one also has area ≥ 4π·d² (a convex body containing
+/// another has the larger surface area).
+inline Real min_plane_distance(const TriMesh& m) {
+  Real d = std::numeric_limits<Real>::infinity();
+  for (std::size_t t = 0; t < m.triangles.size(); ++t) {
+    const Vec3 n = m.triangle_normal_area2(t).normalized();
+    d = std::min(d, n.dot(m.positions[m.triangles[t][0]]));
+  }
+  return d;
 }
 
 }  // namespace trocar::test

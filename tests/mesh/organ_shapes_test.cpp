@@ -13,24 +13,16 @@
 #include "trocar/mesh/organ_shapes.h"
 #include "trocar/mesh/topology.h"
 #include "trocar/mesh/validate.h"
+#include "mesh_test_util.h"
 
 namespace trocar {
 namespace {
 
+using test::min_plane_distance;
+
 constexpr Real kPi = std::numbers::pi_v<Real>;
 constexpr Real kDeg = 180 / kPi;
 
-/// Smallest distance from the origin to a triangle's plane. A closed mesh whose triangles all
-/// face away from the origin and whose cones tile the directions contains the ball of that
-/// radius, so its volume is ≥ 4/3·π·d³.
-Real min_plane_distance(const TriMesh& m) {
-  Real d = std::numeric_limits<Real>::infinity();
-  for (std::size_t t = 0; t < m.triangles.size(); ++t) {
-    const Vec3 n = m.triangle_normal_area2(t).normalized();
-    d = std::min(d, n.dot(m.positions[m.triangles[t][0]]));
-  }
-  return d;
-}
 
 /// Smallest corner angle over all triangles (degrees).
 Real min_angle_deg(const TriMesh& m) {

@@ -28,7 +28,6 @@ InstrumentField::InstrumentField(const TriMesh& local_mesh, Real pad, std::size_
       }
     }
   exact_.emplace(local_mesh.positions, local_mesh.triangles);
-  for (const Vec3& p : samples_) sample_normals_.push_back(exact_->signed_distance(p).pseudonormal);
   box_ = Aabb::of_points(local_mesh.positions).inflated(pad);
   const Vec3 size = box_.size();
   // Cubic cells: h³·cells ≈ box volume, rounded up per axis.

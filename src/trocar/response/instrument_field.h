@@ -53,8 +53,6 @@ class InstrumentField {
   /// For each sample, the instrument vertices it stands for: a vertex twice, an edge point its
   /// edge's two ends.
   std::span<const std::array<std::uint32_t, 2>> sample_vertices() const { return sample_vertices_; }
-  /// For each sample, the instrument's unit outward pseudonormal there (local frame).
-  std::span<const Vec3> sample_normals() const { return sample_normals_; }
 
  private:
   std::optional<MeshDistance> exact_;
@@ -65,7 +63,6 @@ class InstrumentField {
   std::vector<float> values_;  ///< d(c) − slack at each cell centre, rounded down to float
   std::vector<Vec3> samples_;
   std::vector<std::array<std::uint32_t, 2>> sample_vertices_;
-  std::vector<Vec3> sample_normals_;
 };
 
 }  // namespace trocar

@@ -228,7 +228,7 @@ World suite_world(const SuiteOrgan& organ, SuiteMotion motion, Real& duration) {
     }
   }
   duration = keys.back().t;
-  world.add_instrument(suite_motion_name(motion) == std::string("grasp-lift") ? "grasper" : "probe",
+  world.add_instrument(motion == SuiteMotion::kGraspLift ? "grasper" : "probe",
                        std::move(instrument), KeyframeMotion(std::move(keys)));
   return world;
 }
@@ -269,7 +269,11 @@ SuiteRun run_suite_case(const SuiteOrgan& organ, SuiteMotion motion, ResponseMet
     cg_sum += m.cg_iterations;
     run.cg_max = std::max(run.cg_max, m.cg_iterations);
     Real force = 0;
-    for (const InstrumentMetrics& im : sim.instrument_metrics()) force = std::max(force, im.raw_force.norm());
+    for (const InstrumentMetrics& im : sim.instrument_metrics()) {
+      force = std::max(force, im.raw_force.norm());
+      run.force_max = std::max(run.force_max, im.force.norm());
+    }
+    run.raw_force_max = std::max(run.raw_force_max, force);
     if (m.contacts > 0 || force > 0) {  // sdf keeps the surfaces apart: its contact is the force
       ++run.contact_steps;
       cg_contact_sum += m.cg_iterations;
@@ -279,10 +283,6 @@ SuiteRun run_suite_case(const SuiteOrgan& organ, SuiteMotion motion, ResponseMet
     if (m.vertices_inside > 0) depths.push_back(m.penetration_max);
     run.penetration_max = std::max(run.penetration_max, m.penetration_max);
     run.tunneling += m.tunneling_events;
-    for (const InstrumentMetrics& im : sim.instrument_metrics()) {
-      run.force_max = std::max(run.force_max, im.force.norm());
-      run.raw_force_max = std::max(run.raw_force_max, im.raw_force.norm());
-    }
     if (!m.finite) {
       run.stable = false;
       break;
