@@ -4,6 +4,7 @@
 
 #include "bench_command.h"
 #include "mesh_command.h"
+#include "realtime_command.h"
 #include "run_command.h"
 #include "study_command.h"
 #include "trocar/core/error.h"
@@ -16,6 +17,8 @@ int main(int argc, char** argv) {
   trocar::cli::add_bench_command(app, exit_code);
   trocar::cli::add_run_command(app, exit_code);
   trocar::cli::add_study_command(app, exit_code);
+  trocar::cli::add_replay_command(app, exit_code);
+  trocar::cli::add_plot_command(app, exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

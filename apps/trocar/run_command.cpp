@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "realtime_command.h"
 #include "trocar/core/error.h"
 #include "trocar/scene/scene.h"
 #include "trocar/sim/simulation.h"
@@ -212,7 +213,27 @@ void add_run_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--report", options->report, "Write the run report (JSON) to this file");
   cmd->add_option("--record", options->record, "Write a per-step CSV to this file");
   cmd->add_flag("--quiet,-q", options->quiet, "Print nothing but errors");
-  cmd->callback([options, &exit_code]() {
+  auto rt = std::make_shared<RealtimeOptions>();
+  auto realtime = std::make_shared<bool>(false);
+  cmd->add_flag("--realtime", *realtime,
+                "Run at wall-clock speed on the real-time runtime (haptic + physics threads, devices); "
+                "--duration is then wall-clock seconds and --record writes a binary session recording");
+  cmd->add_option("--haptic-rate", rt->rate_hz, "Haptic rate in Hz (with --realtime; 1000, 4000, 10000)")
+      ->check(CLI::Range(1.0, 100000.0));
+  cmd->add_flag("--lockstep", rt->lockstep, "Physics inside the haptic tick (with --realtime)");
+  cmd->add_flag("--metrics", rt->metrics, "Exact penetration metrics in real time (off by default there)");
+  cmd->callback([options, rt, realtime, &exit_code]() {
+    if (*realtime) {
+      rt->scene = options->scene;
+      rt->duration = options->duration;
+      rt->method = options->method;
+      rt->report = options->report;
+      rt->record = options->record;
+      rt->quiet = options->quiet;
+      run_realtime(*rt);
+      return;
+    }
+    if (rt->lockstep || rt->metrics) throw Error("--lockstep and --metrics go with --realtime");
     run(*options);
     (void)exit_code;
   });

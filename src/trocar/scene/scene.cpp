@@ -140,6 +140,41 @@ KeyframeMotion read_motion(const JsonReader& m) {
   return KeyframeMotion(std::move(keys));
 }
 
+DeviceSpec read_device(const JsonReader& d, const std::filesystem::path& dir) {
+  d.expect_keys({"driver", "port", "recording", "translate", "rotate_deg", "scale", "coupling", "max_force",
+                 "slew_rate", "engage_below", "ramp_time", "damping", "stale_after"});
+  DeviceSpec s;
+  s.given = true;
+  s.where = d.file() + ": " + d.path();
+  const JsonReader driver = d.at("driver");
+  s.driver = driver.string();
+  if (s.driver != "null" && s.driver != "scripted" && s.driver != "replay" && s.driver != "openigtlink" &&
+      s.driver != "spacemouse")
+    driver.fail("unknown driver \"" + s.driver + "\" (known: null, scripted, replay, openigtlink, spacemouse)");
+  if (d.has("port")) s.port = static_cast<int>(d.at("port").integer(0, 65535));
+  if (s.driver == "replay") {
+    const JsonReader rec = d.at("recording");
+    s.recording = dir / rec.string();
+  } else if (d.has("recording")) {
+    d.at("recording").fail("only the replay driver reads a recording");
+  }
+  s.device_to_world = Pose::from_euler_deg(d.vec3_or("translate", Vec3::Zero()), d.vec3_or("rotate_deg", Vec3::Zero()));
+  if (d.has("scale")) s.scale = d.at("scale").number_above(0);
+  if (d.has("coupling")) {
+    const JsonReader c = d.at("coupling");
+    c.expect_keys({"stiffness", "damping"});
+    if (c.has("stiffness")) s.coupling_stiffness = c.at("stiffness").number_at_least(0);
+    if (c.has("damping")) s.coupling_damping = c.at("damping").number_at_least(0);
+  }
+  if (d.has("max_force")) s.max_force = d.at("max_force").number_at_least(0);
+  if (d.has("slew_rate")) s.slew_rate = d.at("slew_rate").number_above(0);
+  if (d.has("engage_below")) s.engage_below = d.at("engage_below").number_above(0);
+  if (d.has("ramp_time")) s.ramp_time = d.at("ramp_time").number_at_least(0);
+  if (d.has("damping")) s.damping = d.at("damping").number_at_least(0);
+  if (d.has("stale_after")) s.stale_after = d.at("stale_after").number_above(0);
+  return s;
+}
+
 void read_instrument(const JsonReader& r, std::size_t index, Scene& scene, const std::filesystem::path& dir) {
   r.expect_keys({"name", "mesh", "scale", "translate", "rotate_deg", "repair", "top_vertex", "shaft_direction",
                  "jaw_triangles", "motion", "device"});
@@ -163,9 +198,11 @@ void read_instrument(const JsonReader& r, std::size_t index, Scene& scene, const
       tris.push_back(static_cast<std::uint32_t>(list.at(i).integer(0, static_cast<std::int64_t>(nt) - 1)));
     instrument.set_jaw_triangles(tris);
   }
-  if (r.has("device")) r.at("device").fail("devices are not supported by `trocar run` yet; use \"motion\"");
+  DeviceSpec device;
+  if (r.has("device")) device = read_device(r.at("device"), dir);
   KeyframeMotion motion = r.has("motion") ? read_motion(r.at("motion")) : KeyframeMotion{};
   scene.world.add_instrument(name, std::move(instrument), std::move(motion));
+  scene.devices.push_back(std::move(device));
 }
 
 void read_rigid(const JsonReader& r, std::size_t index, Scene& scene, const std::filesystem::path& dir) {

@@ -3,8 +3,10 @@
 #include <filesystem>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "trocar/core/types.h"
+#include "trocar/scene/device_spec.h"
 #include "trocar/sim/simulation.h"
 #include "trocar/sim/world.h"
 
@@ -21,6 +23,9 @@ struct Scene {
   Vec3 gravity = Vec3(0, 0, -9.81); ///< m/s², "gravity"
   World world;                      ///< tissues, instruments, rigid obstacles (built)
   SimulationSettings settings;      ///< collision and response
+  /// Per instrument (same index): its "device", for the real-time runtime (given = false when
+  /// the scene has only "motion"; the runtime then plays the motion as a scripted device).
+  std::vector<DeviceSpec> devices;
 };
 
 /// Reads and validates a scene file. Every key is checked: an unknown key, a wrong type, a

@@ -105,6 +105,7 @@ Simulation::Simulation(World world, const SimulationSettings& settings)
     : world_(std::move(world)), settings_(settings), detector_(make_detector(settings)) {
   const std::size_t ni = world_.instruments.size();
   const std::size_t nt = world_.tissues.size();
+  commands_.resize(ni);
   for (InstrumentBody& body : world_.instruments) {
     const MotionSample s = body.motion.sample(0);
     body.instrument.reset_pose(s.pose);
@@ -179,6 +180,20 @@ Simulation::Simulation(World world, const SimulationSettings& settings)
   query_scratch_ = MeshDistance::BatchScratch(most_triangles);
 }
 
+void Simulation::command_instrument(std::size_t i, const Pose& pose, Real jaw) {
+  commands_[i].active = true;
+  commands_[i].sample.pose = pose;
+  commands_[i].sample.jaw = jaw;
+}
+
+void Simulation::place_instrument(std::size_t i, const Pose& pose, Real jaw) {
+  world_.instruments[i].instrument.reset_pose(pose);
+  world_.instruments[i].instrument.set_jaw(jaw);
+  command_instrument(i, pose, jaw);
+}
+
+void Simulation::release_instrument(std::size_t i) { commands_[i].active = false; }
+
 const StepMetrics& Simulation::step(Real dt) {
   const Timer total;
   const StageTimings zero{};
@@ -188,8 +203,9 @@ const StepMetrics& Simulation::step(Real dt) {
   Timer stage;
   time_ += dt;
   dt_ = dt;
-  for (InstrumentBody& body : world_.instruments) {
-    const MotionSample s = body.motion.sample(time_);
+  for (std::size_t i = 0; i < world_.instruments.size(); ++i) {
+    InstrumentBody& body = world_.instruments[i];
+    const MotionSample s = commands_[i].active ? commands_[i].sample : body.motion.sample(time_);
     body.instrument.move_to(s.pose, dt);
     body.instrument.set_jaw(s.jaw);
   }

@@ -103,6 +103,19 @@ class Simulation {
   /// Advances by dt seconds (> 0) and returns the step's metrics.
   const StepMetrics& step(Real dt);
 
+  /// Drives instrument i from outside (a device through the runtime, a replay) instead of its
+  /// keyframes: the next steps move it to `pose` with jaw closure `jaw` (the velocity comes from
+  /// consecutive poses, as with keyframes). Holds until the next command or release_instrument().
+  /// No allocation.
+  void command_instrument(std::size_t i, const Pose& pose, Real jaw);
+  /// Puts instrument i at `pose`, at rest, and commands it there (before the first step: a
+  /// device's first sample, without the jump a move would give).
+  void place_instrument(std::size_t i, const Pose& pose, Real jaw);
+  /// Returns instrument i to its keyframes.
+  void release_instrument(std::size_t i);
+  /// True while instrument i is commanded.
+  bool instrument_commanded(std::size_t i) const { return commands_[i].active; }
+
   World& world() { return world_; }                    ///< the simulated objects
   const World& world() const { return world_; }        ///< the simulated objects
   const SimulationSettings& settings() const { return settings_; }  ///< settings
@@ -184,6 +197,12 @@ class Simulation {
   /// batches of consecutive vertices in the tissue's box).
   std::vector<std::vector<std::uint32_t>> query_order_;
   MeshDistance::BatchScratch query_scratch_;  ///< candidate triangles of one query batch
+  /// Per instrument: the pose and jaw commanded from outside, used instead of the keyframes.
+  struct Command {
+    bool active = false;  ///< commanded (else keyframes)
+    MotionSample sample;  ///< pose and jaw
+  };
+  std::vector<Command> commands_;
   StepMetrics metrics_;
   Real time_ = 0;
   std::uint64_t steps_ = 0;

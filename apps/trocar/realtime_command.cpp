@@ -1,0 +1,222 @@
+#include "realtime_command.h"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "trocar/core/error.h"
+#include "trocar/runtime/recording.h"
+#include "trocar/runtime/runtime.h"
+#include "trocar/runtime/session.h"
+#include "trocar/scene/scene.h"
+
+namespace trocar::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+nlohmann::json histogram_json(const TimingHistogram& h) {
+  return {{"median", h.median()}, {"p99", h.p99()}, {"max", h.max()}, {"mean", h.mean()}, {"count", h.count()}};
+}
+
+std::string read_text(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  if (!in) throw Error(p.string() + ": cannot open the scene file");
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+}  // namespace
+
+void run_realtime(const RealtimeOptions& o) {
+  Scene scene = load_scene(o.scene);
+  if (!o.method.empty()) {
+    const auto method = parse_response_method(o.method);
+    if (!method) throw Error("--method: unknown method \"" + o.method + "\" (known: sdf, obb, primitive, normal, project)");
+    scene.settings.response.method = *method;
+  }
+  const double duration = o.duration >= 0 ? o.duration : scene.duration;
+  RuntimeSettings settings;
+  settings.haptic_rate_hz = o.rate_hz;
+  settings.lockstep = o.lockstep;
+  settings.duration = duration;
+  settings.physics_timestep = scene.timestep;
+  settings.lock_memory = true;
+  scene.settings.measure_penetration = o.metrics;
+  const std::string scene_name = scene.name;
+  const std::vector<DeviceSpec> devices = scene.devices;
+
+  Simulation sim(std::move(scene.world), scene.settings);
+  std::vector<RuntimeChannel> channels = make_channels(devices, sim.world());
+  std::unique_ptr<RecordingWriter> recorder;
+  if (!o.record.empty()) {
+    RecordingHeader h;
+    h.instruments = static_cast<std::uint32_t>(sim.world().instruments.size());
+    h.haptic_rate_hz = o.rate_hz;
+    h.timestep = o.lockstep ? 1.0 / o.rate_hz : scene.timestep;
+    h.mode = o.lockstep ? 1 : 0;
+    h.scene_path = fs::absolute(o.scene).lexically_normal().string();
+    h.scene_text = read_text(o.scene);
+    recorder = std::make_unique<RecordingWriter>(o.record, h);
+  }
+  Runtime runtime(sim, std::move(channels), settings, recorder.get());
+  const RuntimeReport r = runtime.run();
+  if (recorder) {
+    EndRecord end;
+    end.state_hash = sim.state_hash();
+    recorder->finish(end);
+  }
+  for (const std::string& w : r.warnings) std::cerr << "trocar: warning: " << w << "\n";
+
+  const PhysicsTimings& p = r.physics;
+  nlohmann::json haptic = {
+      {"mode", o.lockstep ? "lockstep" : "multirate"},
+      {"rate_nominal_hz", o.rate_hz},
+      {"rate_hz", r.rate_hz},
+      {"deadline_miss_fraction", r.deadline_miss_fraction},
+      {"jitter_us_p99", r.jitter_us_p99},
+      {"period_us", histogram_json(r.period_us)},
+      {"ticks", r.ticks},
+      {"physics_rate_hz", r.physics_rate_hz},
+      {"physics_steps", r.physics_steps},
+      {"realtime_factor", r.wall_time > 0 ? r.sim_time / r.wall_time : 0},
+      {"disconnects", r.disconnects},
+      {"recording_dropped", r.recording_dropped},
+      {"timing_us",
+       {{"haptic_tick", histogram_json(r.tick_us)},
+        {"broad_phase", histogram_json(p.broad_phase)},
+        {"narrow_phase", histogram_json(p.narrow_phase)},
+        {"response", histogram_json(p.response)},
+        {"deformation", histogram_json(p.deformation)},
+        {"projection", histogram_json(p.projection)},
+        {"step", histogram_json(p.step)},
+        {"model", histogram_json(p.model)}}},
+      {"warnings", r.warnings},
+  };
+  nlohmann::json report = {
+      {"scene", scene_name},
+      {"method", response_method_name(sim.settings().response.method)},
+      {"steps", r.physics_steps},
+      {"sim_time_s", r.sim_time},
+      {"wall_time_s", r.wall_time},
+      {"timing_us",
+       {{"broad_phase", histogram_json(p.broad_phase)},
+        {"narrow_phase", histogram_json(p.narrow_phase)},
+        {"response", histogram_json(p.response)},
+        {"deformation", histogram_json(p.deformation)},
+        {"step", histogram_json(p.step)}}},
+      {"stable", sim.metrics().finite},
+      {"state_hash", hash_hex(sim.state_hash())},
+      {"haptic", haptic},
+  };
+  if (!o.report.empty()) {
+    const fs::path tmp = o.report + ".tmp";
+    {
+      std::ofstream out(tmp);
+      if (!out) throw Error(o.report + ": cannot write");
+      out << report.dump(2) << "\n";
+    }
+    fs::rename(tmp, o.report);
+  }
+  if (!o.quiet)
+    std::printf("%s (real time, %s): %llu haptic ticks at %.1f Hz (nominal %.0f), deadline misses %.4f %%, jitter p99 "
+                "%.1f us, tick p99 %.1f us; physics %llu steps at %.1f Hz, step median %.1f us; hash %s\n",
+                scene_name.c_str(), o.lockstep ? "lock-step" : "multirate", (unsigned long long)r.ticks, r.rate_hz,
+                o.rate_hz, 100 * r.deadline_miss_fraction, r.jitter_us_p99, r.tick_us.p99(),
+                (unsigned long long)r.physics_steps, r.physics_rate_hz, p.step.median(),
+                hash_hex(sim.state_hash()).c_str());
+}
+
+namespace {
+
+struct ReplayOptions {
+  std::string recording;
+  bool quiet = false;
+};
+
+struct PlotOptions {
+  std::string recording;
+  std::string out;
+};
+
+// The seed's Fig. 5.4/5.5: time per iteration of each module over the run.
+void plot_timing(const PlotOptions& o) {
+  const Recording rec = read_recording(o.recording, false);
+  if (!rec.end)
+    std::cerr << "trocar: warning: " << o.recording << ": byte " << rec.complete_bytes
+              << ": the recording ends early (no end record); plotting its " << rec.steps.size() << " steps\n";
+  const fs::path out = o.out.empty() ? fs::path(o.recording).parent_path() / "timing" : fs::path(o.out);
+  fs::create_directories(out);
+  {
+    std::ofstream steps(out / "steps.dat");
+    steps << "# step time_s";
+    for (const char* n : kStepTimingNames) steps << " " << n << "_us";
+    steps << "\n";
+    for (const StepRecord& s : rec.steps) {
+      steps << s.step << " " << double(s.time_ns) * 1e-9;
+      for (float t : s.timing_us) steps << " " << t;
+      steps << "\n";
+    }
+    std::ofstream ticks(out / "ticks.dat");
+    ticks << "# tick time_s period_us compute_us\n";
+    for (const TickRecord& t : rec.ticks)
+      ticks << t.tick << " " << double(t.time_ns) * 1e-9 << " " << t.period_us << " " << t.compute_us << "\n";
+  }
+  std::ofstream gp(out / "timing.gp");
+  const auto plot = [&](const char* terminal, const char* ext) {
+    gp << "set terminal " << terminal << " size 1000,600\n"
+       << "set output 'physics_timing." << ext << "'\n"
+       << "set title 'Physics: time per step of each module (the seed, Fig. 5.4)'\n"
+       << "set xlabel 'time (s)'\nset ylabel 'time per step (us)'\nset key outside right\nset grid\n"
+       << "plot 'steps.dat' using 2:3 with lines title 'broad phase', '' using 2:4 with lines title 'narrow phase', "
+          "'' using 2:5 with lines title 'response', '' using 2:6 with lines title 'deformation', "
+          "'' using 2:8 with lines lw 2 title 'whole step'\n"
+       << "set output 'haptic_timing." << ext << "'\n"
+       << "set title 'Haptic loop: period and compute per tick (the seed, Fig. 5.5)'\n"
+       << "set ylabel 'us'\n"
+       << "plot 'ticks.dat' using 2:3 with lines title 'period', '' using 2:4 with lines title 'tick compute'\n";
+  };
+  plot("svg dynamic", "svg");
+  plot("pngcairo", "png");
+  gp.close();
+  if (std::system("command -v gnuplot >/dev/null 2>&1") != 0)
+    throw Error("gnuplot not found: the data and timing.gp are in " + out.string() + " (install gnuplot-nox)");
+  const std::string cmd = "cd '" + out.string() + "' && gnuplot timing.gp";
+  if (std::system(cmd.c_str()) != 0) throw Error("gnuplot failed on " + (out / "timing.gp").string());
+  std::printf("plot timing: %zu steps, %zu ticks -> %s/{physics,haptic}_timing.{svg,png}\n", rec.steps.size(),
+              rec.ticks.size(), out.string().c_str());
+}
+
+}  // namespace
+
+void add_replay_command(CLI::App& app, int& exit_code) {
+  auto o = std::make_shared<ReplayOptions>();
+  CLI::App* cmd = app.add_subcommand("replay", "Redo a recorded real-time session in lock-step and check its state hash");
+  cmd->add_option("recording", o->recording, "Session recording (trocar run --realtime --record)")->required();
+  cmd->add_flag("--quiet,-q", o->quiet, "Print nothing but errors");
+  cmd->callback([o, &exit_code]() {
+    const ReplayResult r = replay_recording(o->recording);
+    if (!o->quiet)
+      std::printf("replay: %llu steps; state hash %s, recorded %s: %s\n", (unsigned long long)r.steps,
+                  hash_hex(r.state_hash).c_str(), hash_hex(r.recorded_hash).c_str(),
+                  r.matches() ? "identical" : "DIFFERENT");
+    if (!r.matches()) exit_code = 3;
+  });
+}
+
+void add_plot_command(CLI::App& app, int& /*exit_code*/) {
+  auto o = std::make_shared<PlotOptions>();
+  CLI::App* plot = app.add_subcommand("plot", "Plots of a recorded session");
+  plot->require_subcommand(1);
+  CLI::App* timing = plot->add_subcommand("timing", "Time per iteration of each module over the run (SVG and PNG)");
+  timing->add_option("recording", o->recording, "Session recording")->required();
+  timing->add_option("--out", o->out, "Output folder (default: timing/ beside the recording)");
+  timing->callback([o]() { plot_timing(*o); });
+}
+
+}  // namespace trocar::cli

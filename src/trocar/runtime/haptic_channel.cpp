@@ -1,0 +1,110 @@
+#include "trocar/runtime/haptic_channel.h"
+
+#include <algorithm>
+
+namespace trocar {
+
+Pose DeviceMapping::to_world(const Pose& device) const {
+  Pose scaled = device;
+  scaled.translation *= scale;
+  return device_to_world * scaled;
+}
+
+PoseWords to_words(const Pose& p) {
+  return {p.rotation.w(), p.rotation.x(), p.rotation.y(), p.rotation.z(),
+          p.translation.x(), p.translation.y(), p.translation.z()};
+}
+
+Pose from_words(const PoseWords& w) {
+  Pose p;
+  p.rotation = Quat(w[0], w[1], w[2], w[3]);
+  p.translation = Vec3(w[4], w[5], w[6]);
+  return p;
+}
+
+HapticChannel::HapticChannel(Device& device, const DeviceMapping& mapping, const CouplingSettings& coupling,
+                             const ForceShaping& shaping, const ModelHandover& handover)
+    : device_(device), mapping_(mapping), coupling_(coupling), shaper_(shaping), handover_(handover) {}
+
+Vec3 HapticChannel::blended_proxy(const Vec3& x) const {
+  const Vec3 now = coupled_proxy(current_, coupling_.stiffness, x);
+  if (blend_tick_ + 1 >= handover_.blend_ticks) return now;
+  // The jump a new model would make is spread over blend_ticks ticks: the offset between the
+  // proxy rendered just before the model arrived and the new model's, decaying linearly. This is
+  // continuous however often models arrive (a new one restarts the ramp from where it is).
+  const Real a = Real(blend_tick_ + 1) / Real(handover_.blend_ticks);
+  return now + (1 - a) * proxy_offset_;
+}
+
+const InstrumentCommand& HapticChannel::sense(double now_s) {
+  const DeviceStatus was = status_;
+  status_ = device_.read(now_s, input_);
+  if (status_ == DeviceStatus::kConnected && input_.sequence > 0) {
+    const Pose world = mapping_.to_world(input_.pose);
+    device_world_ = world;
+    device_velocity_ = mapping_.device_to_world.apply_vector(input_.velocity) * mapping_.scale;
+    command_.pose = world;
+    command_.pose.translation = blended_proxy(world.translation);
+    command_.jaw = input_.jaw;
+    command_.active = true;
+  } else {
+    // Dropped or silent: the instrument holds its last pose (command_ unchanged).
+    device_velocity_ = Vec3::Zero();
+    if (was == DeviceStatus::kConnected) ++disconnects_;
+  }
+  return command_;
+}
+
+void HapticChannel::actuate(const LocalContactModel& model, std::uint64_t model_step, double model_age_s,
+                            double period_s, TickInstrument& record) {
+  if (model_step != model_step_) {
+    const Vec3& x = device_world_.translation;
+    const Vec3 rendered = have_proxy_ ? last_proxy_ : x;
+    current_ = model;
+    model_step_ = model_step;
+    blend_tick_ = 0;
+    proxy_offset_ = have_proxy_ ? Vec3(rendered - coupled_proxy(current_, coupling_.stiffness, last_device_)) : Vec3::Zero();
+  }
+  Vec3 commanded = Vec3::Zero();
+  const bool live = status_ == DeviceStatus::kConnected && command_.active;
+  if (live) {
+    const Vec3& x = device_world_.translation;
+    const Vec3 proxy = blended_proxy(x);
+    command_.pose.translation = proxy;
+    // The device feels the coupling: spring to the proxy, damper on the relative velocity
+    // (the proxy's from its last two positions).
+    const Vec3 proxy_velocity = have_proxy_ && period_s > 0 ? Vec3((proxy - last_proxy_) / period_s) : Vec3(device_velocity_);
+    const bool touching = (proxy - x).squaredNorm() > 0;
+    commanded = coupling_.stiffness * (proxy - x);
+    if (touching) commanded += coupling_.damping * (proxy_velocity - device_velocity_);
+    // A model older than stale_after fades out over fade_time (physics stalled).
+    if (model_age_s > handover_.stale_after) {
+      const double keep = handover_.fade_time > 0 ? 1 - (model_age_s - handover_.stale_after) / handover_.fade_time : 0;
+      commanded *= std::clamp(keep, 0.0, 1.0);
+    }
+    last_proxy_ = proxy;
+    last_device_ = x;
+    have_proxy_ = true;
+    force_ = shaper_.shape(commanded, period_s);
+  } else {
+    shaper_.disengage();  // zero now; the safe start again on reconnect
+    force_ = Vec3::Zero();
+    have_proxy_ = false;
+  }
+  ++blend_tick_;
+
+  DeviceOutput out;
+  out.force = mapping_.device_to_world.rotation.conjugate() * force_;
+  out.timestamp_ns = input_.timestamp_ns;
+  device_.write(out);
+
+  record.device_pose = to_words(device_world_);
+  record.proxy_pose = to_words(command_.pose);
+  record.force = {force_.x(), force_.y(), force_.z()};
+  record.jaw = command_.jaw;
+  record.status = static_cast<std::uint32_t>(status_);
+  record.engaged = shaper_.engaged() ? 1U : 0U;
+  record.model_step = model_step_;
+}
+
+}  // namespace trocar

@@ -1,0 +1,53 @@
+#pragma once
+/// The physics side of the runtime: takes the haptic tick's commands, runs Simulation::step, and
+/// builds the local contact models. Also what `trocar replay` runs, so that a replay takes the
+/// very path the session took.
+#include <array>
+#include <cstdint>
+
+#include "trocar/runtime/haptic_channel.h"
+#include "trocar/runtime/histogram.h"
+#include "trocar/runtime/local_contact_model.h"
+#include "trocar/runtime/recording_format.h"
+#include "trocar/sim/simulation.h"
+
+namespace trocar {
+
+/// The commands of one haptic tick, one per instrument (what physics reads through a Seqlock).
+struct InstrumentCommandSet {
+  std::array<InstrumentCommand, kMaxRuntimeInstruments> instruments{};  ///< by instrument index
+  std::uint64_t tick = 0;  ///< haptic tick that published it
+};
+
+/// Per-module timing of the physics steps (µs), the seed's Fig. 5.4/5.5 modules.
+struct PhysicsTimings {
+  TimingHistogram broad_phase, narrow_phase, response, deformation, projection, step, model;
+};
+
+/// Applies a step record's instrument modes (place, command, keyframes) and steps by its dt.
+/// The one function both the live physics thread and replay use.
+const StepMetrics& apply_recorded_step(Simulation& sim, const StepRecord& record);
+
+/// Steps a Simulation for the runtime (one thread at a time).
+class PhysicsStepper {
+ public:
+  /// stiffness_prior: the contact stiffness (N/m) a model uses until one is measured.
+  PhysicsStepper(Simulation& sim, Real stiffness_prior);
+  /// One step of dt seconds with `commands`; `now_ns` (steady clock) stamps the models. Fills
+  /// `record` with what replay needs and the module timings. No allocation after the first.
+  const ContactModelSet& step(const InstrumentCommandSet& commands, Real dt, std::int64_t now_ns, StepRecord& record);
+
+  const ContactModelSet& models() const { return models_; }  ///< after the last step
+  const PhysicsTimings& timings() const { return timings_; }  ///< so far
+  Simulation& simulation() { return sim_; }                    ///< the simulation
+
+ private:
+  Simulation& sim_;
+  std::size_t instruments_;
+  std::array<ContactStiffnessEstimator, kMaxRuntimeInstruments> estimators_;
+  std::array<bool, kMaxRuntimeInstruments> placed_{};
+  ContactModelSet models_;
+  PhysicsTimings timings_;
+};
+
+}  // namespace trocar

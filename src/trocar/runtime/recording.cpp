@@ -1,0 +1,279 @@
+#include "trocar/runtime/recording.h"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <chrono>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+
+#include "trocar/core/error.h"
+
+namespace trocar {
+namespace {
+
+std::uint64_t fnv1a(const unsigned char* data, std::size_t n) {
+  std::uint64_t h = 1469598103934665603ULL;
+  for (std::size_t i = 0; i < n; ++i) {
+    h ^= data[i];
+    h *= 1099511628211ULL;
+  }
+  return h;
+}
+
+template <typename T>
+void put(std::vector<unsigned char>& out, const T& v) {
+  const auto* p = reinterpret_cast<const unsigned char*>(&v);
+  out.insert(out.end(), p, p + sizeof(T));
+}
+
+void put_string(std::vector<unsigned char>& out, const std::string& s) {
+  put(out, static_cast<std::uint64_t>(s.size()));
+  out.insert(out.end(), s.begin(), s.end());
+}
+
+struct BlockHeader {
+  char magic[4];
+  std::uint32_t records;
+  std::uint32_t payload_bytes;
+  std::uint32_t reserved;
+  std::uint64_t checksum;
+};
+static_assert(sizeof(BlockHeader) == 24);
+
+}  // namespace
+
+RecordingWriter::RecordingWriter(const std::filesystem::path& file, const RecordingHeader& header,
+                                 std::size_t ring_capacity)
+    : file_(file), ticks_(ring_capacity), steps_(ring_capacity) {
+  fd_ = ::open(file.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd_ < 0) throw FileError(file.string(), FileLocation::none(), std::string("cannot create: ") + std::strerror(errno));
+  std::vector<unsigned char> h;
+  h.insert(h.end(), std::begin(kRecordingMagic), std::end(kRecordingMagic));
+  put(h, kRecordingVersion);
+  put(h, header.instruments);
+  put(h, header.haptic_rate_hz);
+  put(h, header.timestep);
+  put(h, header.mode);
+  put_string(h, header.scene_path);
+  put_string(h, header.scene_text);
+  if (::write(fd_, h.data(), h.size()) != static_cast<ssize_t>(h.size())) {
+    ::close(fd_);
+    throw FileError(file.string(), FileLocation::none(), "cannot write the header");
+  }
+  block_.reserve(kBlockRecords * sizeof(StepRecord) + sizeof(BlockHeader));
+  thread_ = std::thread([this] { run(); });
+}
+
+RecordingWriter::~RecordingWriter() {
+  stop_.store(true);
+  if (thread_.joinable()) thread_.join();
+  if (fd_ >= 0) ::close(fd_);
+}
+
+void RecordingWriter::run() {
+  const auto period = std::chrono::duration<double>(kFlushPeriod / 5);
+  while (!stop_.load(std::memory_order_acquire)) {
+    drain();
+    std::this_thread::sleep_for(period);
+  }
+}
+
+void RecordingWriter::append_record(const void* record, std::size_t bytes) {
+  const auto* p = static_cast<const unsigned char*>(record);
+  block_.insert(block_.end(), p, p + bytes);
+  if (++block_records_ == kBlockRecords) flush_block();
+}
+
+void RecordingWriter::flush_block() {
+  if (block_records_ == 0) return;
+  write_block(block_, block_records_);
+  block_.clear();
+  block_records_ = 0;
+}
+
+void RecordingWriter::write_block(const std::vector<unsigned char>& payload, std::uint32_t records) {
+  BlockHeader bh{};
+  std::memcpy(bh.magic, kBlockMagic, 4);
+  bh.records = records;
+  bh.payload_bytes = static_cast<std::uint32_t>(payload.size());
+  bh.checksum = fnv1a(payload.data(), payload.size());
+  // One write per block: a killed process leaves whole blocks (the kernel has them) and at most
+  // one partial block at the end, which the reader reports.
+  std::vector<unsigned char> out(sizeof(bh) + payload.size());
+  std::memcpy(out.data(), &bh, sizeof(bh));
+  std::memcpy(out.data() + sizeof(bh), payload.data(), payload.size());
+  std::size_t done = 0;
+  while (done < out.size()) {
+    const ssize_t n = ::write(fd_, out.data() + done, out.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      if (error_.empty()) error_ = std::string("write failed: ") + std::strerror(errno);
+      return;
+    }
+    done += static_cast<std::size_t>(n);
+  }
+}
+
+void RecordingWriter::drain() {
+  TickRecord t;
+  StepRecord s;
+  bool any = true;
+  while (any) {
+    any = false;
+    if (steps_.pop(s)) {
+      append_record(&s, sizeof(s));
+      ++steps_written_;
+      any = true;
+    }
+    if (ticks_.pop(t)) {
+      append_record(&t, sizeof(t));
+      ++ticks_written_;
+      any = true;
+    }
+  }
+  flush_block();
+}
+
+void RecordingWriter::finish(EndRecord end) {
+  stop_.store(true);
+  if (thread_.joinable()) thread_.join();
+  drain();
+  end.steps = steps_written_;
+  end.ticks = ticks_written_;
+  end.dropped = dropped();
+  append_record(&end, sizeof(end));
+  flush_block();
+  if (fd_ >= 0 && ::close(fd_) != 0 && error_.empty()) error_ = std::string("close failed: ") + std::strerror(errno);
+  fd_ = -1;
+  if (!error_.empty()) throw FileError(file_.string(), FileLocation::none(), error_);
+}
+
+namespace {
+
+class Cursor {
+ public:
+  Cursor(const std::string& file, const std::vector<unsigned char>& data) : file_(file), data_(data) {}
+  std::size_t offset() const { return offset_; }
+  std::size_t left() const { return data_.size() - offset_; }
+  template <typename T>
+  T take(const char* what) {
+    need(sizeof(T), what);
+    T v;
+    std::memcpy(&v, data_.data() + offset_, sizeof(T));
+    offset_ += sizeof(T);
+    return v;
+  }
+  std::string take_string(const char* what) {
+    const auto n = take<std::uint64_t>(what);
+    need(n, what);
+    std::string s(reinterpret_cast<const char*>(data_.data() + offset_), n);
+    offset_ += n;
+    return s;
+  }
+  void skip(std::size_t n) { offset_ += n; }
+  void need(std::uint64_t n, const char* what) const {
+    if (n > left())
+      throw FileError(file_, FileLocation::byte(offset_), std::string("truncated: ") + what + " needs " +
+                                                              std::to_string(n) + " bytes, " +
+                                                              std::to_string(left()) + " left");
+  }
+
+ private:
+  const std::string& file_;
+  const std::vector<unsigned char>& data_;
+  std::size_t offset_ = 0;
+};
+
+// Parses one block's payload into the recording; returns an error text (empty when good).
+std::string parse_payload(const unsigned char* p, std::size_t n, std::uint32_t records, Recording& rec,
+                          std::size_t& bad_at) {
+  std::size_t at = 0;
+  for (std::uint32_t i = 0; i < records; ++i) {
+    bad_at = at;
+    if (n - at < 8) return "record header past the block's end";
+    std::uint32_t type = 0, bytes = 0;
+    std::memcpy(&type, p + at, 4);
+    std::memcpy(&bytes, p + at + 4, 4);
+    if (bytes > n - at) return "record of " + std::to_string(bytes) + " bytes past the block's end";
+    if (rec.end) return "record after the end record";
+    if (type == static_cast<std::uint32_t>(RecordType::kTick) && bytes == sizeof(TickRecord)) {
+      TickRecord r;
+      std::memcpy(&r, p + at, sizeof r);
+      rec.ticks.push_back(r);
+    } else if (type == static_cast<std::uint32_t>(RecordType::kStep) && bytes == sizeof(StepRecord)) {
+      StepRecord r;
+      std::memcpy(&r, p + at, sizeof r);
+      rec.steps.push_back(r);
+    } else if (type == static_cast<std::uint32_t>(RecordType::kEnd) && bytes == sizeof(EndRecord)) {
+      EndRecord r;
+      std::memcpy(&r, p + at, sizeof r);
+      rec.end = r;
+    } else {
+      return "unknown record (type " + std::to_string(type) + ", " + std::to_string(bytes) + " bytes)";
+    }
+    at += bytes;
+  }
+  bad_at = at;
+  if (at != n) return "block holds " + std::to_string(n - at) + " bytes beyond its records";
+  return {};
+}
+
+}  // namespace
+
+Recording read_recording(const std::filesystem::path& path, bool strict) {
+  const std::string file = path.string();
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw FileError(file, FileLocation::none(), "cannot open");
+  const std::vector<unsigned char> data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  Recording rec;
+  rec.file_bytes = data.size();
+  Cursor c(file, data);
+  c.need(sizeof kRecordingMagic, "the magic");
+  if (std::memcmp(data.data(), kRecordingMagic, sizeof kRecordingMagic) != 0)
+    throw FileError(file, FileLocation::byte(0), "not a trocar recording (no TROCREC1 magic)");
+  c.take<std::array<char, 8>>("the magic");
+  const std::size_t version_at = c.offset();
+  const auto version = c.take<std::uint32_t>("the version");
+  if (version != kRecordingVersion)
+    throw FileError(file, FileLocation::byte(version_at), "version " + std::to_string(version) + " (this build reads " +
+                                                              std::to_string(kRecordingVersion) + ")");
+  const std::size_t count_at = c.offset();
+  rec.header.instruments = c.take<std::uint32_t>("the instrument count");
+  if (rec.header.instruments > kMaxRuntimeInstruments)
+    throw FileError(file, FileLocation::byte(count_at), "instrument count " + std::to_string(rec.header.instruments) +
+                                                            " above " + std::to_string(kMaxRuntimeInstruments));
+  rec.header.haptic_rate_hz = c.take<double>("the haptic rate");
+  rec.header.timestep = c.take<double>("the timestep");
+  rec.header.mode = c.take<std::uint32_t>("the mode");
+  rec.header.scene_path = c.take_string("the scene path");
+  rec.header.scene_text = c.take_string("the scene text");
+  rec.complete_bytes = c.offset();
+
+  while (c.left() > 0) {
+    const std::size_t block_at = c.offset();
+    try {
+      const auto bh = c.take<BlockHeader>("a block header");
+      if (std::memcmp(bh.magic, kBlockMagic, 4) != 0) throw FileError(file, FileLocation::byte(block_at), "no block magic TRBK");
+      c.need(bh.payload_bytes, "a block's payload");
+      const unsigned char* payload = data.data() + c.offset();
+      if (fnv1a(payload, bh.payload_bytes) != bh.checksum)
+        throw FileError(file, FileLocation::byte(block_at), "block checksum mismatch (corrupt data)");
+      std::size_t bad_at = 0;
+      const std::string why = parse_payload(payload, bh.payload_bytes, bh.records, rec, bad_at);
+      if (!why.empty()) throw FileError(file, FileLocation::byte(c.offset() + bad_at), why);
+      c.skip(bh.payload_bytes);
+      rec.complete_bytes = c.offset();
+    } catch (const FileError&) {
+      if (strict) throw;
+      return rec;
+    }
+  }
+  if (strict && !rec.end)
+    throw FileError(file, FileLocation::byte(rec.complete_bytes), "truncated: no end record (the session did not finish)");
+  return rec;
+}
+
+}  // namespace trocar

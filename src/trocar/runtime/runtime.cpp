@@ -1,0 +1,199 @@
+#include "trocar/runtime/runtime.h"
+
+#include <atomic>
+#include <cmath>
+#include <thread>
+
+#include "trocar/core/error.h"
+#include "trocar/core/seqlock.h"
+#include "trocar/runtime/realtime.h"
+
+namespace trocar {
+
+struct Runtime::Shared {
+  Seqlock<ContactModelSet> models;          // physics → haptic
+  Seqlock<InstrumentCommandSet> commands;   // haptic → physics
+  std::atomic<bool> stop{false};
+  std::vector<std::string> haptic_warnings;   // written by the haptic thread outside its ticks
+  std::vector<std::string> physics_warnings;  // written by the physics thread before its loop
+  // Haptic-thread state (only it touches these).
+  ContactModelSet tick_models;
+  InstrumentCommandSet tick_commands;
+  StepRecord lockstep_record;
+  std::uint64_t late_ticks = 0;
+  std::uint64_t skipped_slots = 0;
+};
+
+Runtime::Runtime(Simulation& sim, std::vector<RuntimeChannel> channels, const RuntimeSettings& settings,
+                 RecordingWriter* recorder)
+    : sim_(sim), channels_(std::move(channels)), settings_(settings), recorder_(recorder),
+      stepper_(sim, settings.stiffness_prior), shared_(std::make_unique<Shared>()) {
+  const std::size_t n = sim.world().instruments.size();
+  if (n > kMaxRuntimeInstruments)
+    throw Error("the real-time runtime drives at most " + std::to_string(kMaxRuntimeInstruments) +
+                " instruments; the scene has " + std::to_string(n));
+  if (channels_.size() != n)
+    throw Error("the runtime needs one device per instrument: " + std::to_string(channels_.size()) + " for " +
+                std::to_string(n));
+  if (!(settings_.haptic_rate_hz > 0 && settings_.haptic_rate_hz <= 100000))
+    throw Error("haptic rate " + std::to_string(settings_.haptic_rate_hz) + " Hz: must be in (0, 100000]");
+  if (!settings_.lockstep && !(settings_.physics_timestep > 0)) throw Error("physics timestep must be > 0");
+  const double period = 1.0 / settings_.haptic_rate_hz;
+  for (RuntimeChannel& c : channels_) {
+    if (!c.device) throw Error(c.where + ": no device");
+    check_coupling_passivity(c.coupling, c.device->specs().damping, period, c.where + ".coupling");
+    if (c.device->specs().max_force > 0) c.shaping.max_force = std::min(c.shaping.max_force, c.device->specs().max_force);
+    else c.shaping.max_force = 0;  // a device without force output (spacemouse) is sent none
+  }
+  haptic_.reserve(channels_.size());
+  ModelHandover handover = settings_.handover;
+  if (settings_.lockstep) handover.blend_ticks = 1;  // a fresh model every tick: nothing to blend
+  for (RuntimeChannel& c : channels_) haptic_.emplace_back(*c.device, c.mapping, c.coupling, c.shaping, handover);
+  period_ns_ = static_cast<std::int64_t>(std::llround(1e9 * period));
+}
+
+Runtime::~Runtime() {
+  for (RuntimeChannel& c : channels_)
+    if (c.device) c.device->close();
+}
+
+void Runtime::haptic_tick(std::int64_t now_ns, double period_s, TickRecord& record) {
+  Shared& s = *shared_;
+  const double now_s = double(now_ns - start_ns_) * 1e-9;
+  if (!settings_.lockstep) s.models.read(s.tick_models);
+  for (HapticChannel& h : haptic_) h.sense(now_s);
+  if (settings_.lockstep) {
+    for (std::size_t i = 0; i < haptic_.size(); ++i) s.tick_commands.instruments[i] = haptic_[i].command();
+    s.tick_models = stepper_.step(s.tick_commands, period_s, now_ns, s.lockstep_record);
+    s.lockstep_record.time_ns = now_ns - start_ns_;
+    if (recorder_) recorder_->push_step(s.lockstep_record);
+  }
+  record.instruments = static_cast<std::uint32_t>(haptic_.size());
+  for (std::size_t i = 0; i < haptic_.size(); ++i) {
+    const double age = s.tick_models.step ? double(now_ns - s.tick_models.timestamp_ns) * 1e-9 : 0.0;
+    haptic_[i].actuate(s.tick_models.instruments[i], s.tick_models.step, age, period_s, record.instrument[i]);
+  }
+  if (!settings_.lockstep) {
+    for (std::size_t i = 0; i < haptic_.size(); ++i) s.tick_commands.instruments[i] = haptic_[i].command();
+    ++s.tick_commands.tick;
+    s.commands.publish(s.tick_commands);
+  }
+}
+
+void Runtime::haptic_thread() {
+  Shared& s = *shared_;
+  if (settings_.realtime_scheduling) {
+    const std::string w = make_current_thread_realtime(49, settings_.haptic_cpu);
+    if (!w.empty()) s.haptic_warnings.push_back("haptic thread: " + w);
+  }
+  const double period_s = double(period_ns_) * 1e-9;
+  const std::int64_t end_ns = start_ns_ + static_cast<std::int64_t>(std::llround(settings_.duration * 1e9));
+  std::int64_t next = start_ns_;
+  std::int64_t previous = 0;
+  TickRecord record;
+  std::uint64_t tick = 0;
+  while (next < end_ns) {
+    wait_until(next, settings_.spin_ns);
+    const std::int64_t t0 = monotonic_ns();
+    if (double(t0 - next) > 0.1 * double(period_ns_)) ++s.late_ticks;
+    if (previous != 0) {
+      const double period_us = double(t0 - previous) * 1e-3;
+      report_.period_us.add(period_us);
+      report_.jitter_us.add(std::abs(period_us - double(period_ns_) * 1e-3));
+      record.period_us = static_cast<float>(period_us);
+    }
+    previous = t0;
+    haptic_tick(t0, period_s, record);
+    const std::int64_t t1 = monotonic_ns();
+    const double compute_us = double(t1 - t0) * 1e-3;
+    report_.tick_us.add(compute_us);
+    record.tick = tick++;
+    record.time_ns = t0 - start_ns_;
+    record.compute_us = static_cast<float>(compute_us);
+    if (recorder_) recorder_->push_tick(record);
+    next += period_ns_;
+    // Behind by a whole period (a stall): skip the slots already past instead of a burst of
+    // back-to-back ticks, and count them as missed.
+    while (next + period_ns_ < t1) {
+      next += period_ns_;
+      ++s.skipped_slots;
+    }
+  }
+  report_.ticks = tick;
+  s.stop.store(true, std::memory_order_release);
+}
+
+void Runtime::physics_thread() {
+  Shared& s = *shared_;
+  if (settings_.realtime_scheduling) {
+    const std::string w = make_current_thread_realtime(48, settings_.physics_cpu);
+    if (!w.empty()) s.physics_warnings.push_back("physics thread: " + w);
+  }
+  const Real dt = settings_.physics_timestep;
+  const auto step_ns = static_cast<std::int64_t>(std::llround(dt * 1e9));
+  InstrumentCommandSet commands;
+  StepRecord record;
+  ContactModelSet models;
+  std::int64_t next = start_ns_;
+  while (!s.stop.load(std::memory_order_acquire)) {
+    s.commands.read(commands);
+    models = stepper_.step(commands, dt, 0, record);
+    const std::int64_t now = monotonic_ns();
+    models.timestamp_ns = now;
+    s.models.publish(models);
+    record.time_ns = now - start_ns_;
+    if (recorder_) recorder_->push_step(record);
+    next += step_ns;
+    if (now < next) wait_until(next, 0);
+    else if (now > next + 5 * step_ns) next = now;  // fallen behind: run on, don't burst
+  }
+}
+
+RuntimeReport Runtime::run() {
+  for (RuntimeChannel& c : channels_) c.device->open();
+  if (settings_.lock_memory) {
+    const std::string w = lock_memory();
+    if (!w.empty()) report_.warnings.push_back(w);
+  }
+  start_ns_ = monotonic_ns() + 2000000;  // 2 ms for the threads to start
+  const std::uint64_t steps_before = sim_.metrics().step_index;
+  const double sim_before = sim_.time();
+  std::thread physics;
+  if (!settings_.lockstep) physics = std::thread([this] { physics_thread(); });
+  std::thread haptic([this] { haptic_thread(); });
+  haptic.join();
+  if (physics.joinable()) physics.join();
+  const std::int64_t end = monotonic_ns();
+  for (RuntimeChannel& c : channels_) c.device->close();
+
+  Shared& s = *shared_;
+  RuntimeReport& r = report_;
+  r.wall_time = double(end - start_ns_) * 1e-9;
+  r.rate_hz = r.wall_time > 0 ? double(r.ticks) / r.wall_time : 0;
+  const double slots = double(r.ticks + s.skipped_slots);
+  r.deadline_miss_fraction = slots > 0 ? double(s.late_ticks + s.skipped_slots) / slots : 0;
+  r.jitter_us_p99 = r.jitter_us.p99();
+  r.physics_steps = sim_.metrics().step_index - steps_before;
+  r.physics_rate_hz = r.wall_time > 0 ? double(r.physics_steps) / r.wall_time : 0;
+  r.sim_time = sim_.time() - sim_before;
+  r.physics = stepper_.timings();
+  for (const std::string& w : s.haptic_warnings) r.warnings.push_back(w);
+  for (const std::string& w : s.physics_warnings) r.warnings.push_back(w);
+  for (std::size_t i = 0; i < haptic_.size(); ++i) {
+    r.devices.push_back(channels_[i].device->counters());
+    r.disconnects += haptic_[i].disconnects();
+    if (haptic_[i].disconnects() > 0)
+      r.warnings.push_back("instrument " + std::to_string(i) + ": device " + channels_[i].device->specs().name +
+                           " dropped " + std::to_string(haptic_[i].disconnects()) +
+                           " time(s); the instrument held its last pose and the force went to zero");
+  }
+  if (recorder_) {
+    r.recording_dropped = recorder_->dropped();
+    if (r.recording_dropped > 0)
+      r.warnings.push_back("recording: " + std::to_string(r.recording_dropped) +
+                           " records lost to a full ring (the disk is too slow); the recording cannot be replayed");
+  }
+  return r;
+}
+
+}  // namespace trocar

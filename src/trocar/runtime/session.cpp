@@ -1,0 +1,87 @@
+#include "trocar/runtime/session.h"
+
+#include "trocar/core/error.h"
+#include "trocar/device/null_device.h"
+#include "trocar/device/scripted_device.h"
+#include "trocar/runtime/recording.h"
+#include "trocar/runtime/replay_device.h"
+#ifdef TROCAR_HAVE_OPENIGTLINK
+#include "trocar/device/openigtlink_device.h"
+#endif
+#ifdef TROCAR_HAVE_SPNAV
+#include "trocar/device/spacemouse_device.h"
+#endif
+
+namespace trocar {
+namespace {
+
+std::unique_ptr<Device> make_device(const DeviceSpec& spec, const InstrumentBody& body, std::size_t index) {
+  if (!spec.given || spec.driver == "scripted")
+    return std::make_unique<ScriptedDevice>(body.motion, spec.max_force, spec.damping);
+  if (spec.driver == "null") return std::make_unique<NullDevice>(body.motion.sample(0).pose);
+  if (spec.driver == "replay") return std::make_unique<ReplayDevice>(spec.recording, index, spec.max_force, spec.damping);
+  if (spec.driver == "openigtlink") {
+#ifdef TROCAR_HAVE_OPENIGTLINK
+    OpenIgtLinkSettings s;
+    s.port = spec.port;
+    s.max_force = spec.max_force;
+    s.damping = spec.damping;
+    s.stale_after_s = spec.stale_after;
+    return std::make_unique<OpenIgtLinkDevice>(s);
+#else
+    throw Error(spec.where + ".driver: this build has no openigtlink driver (install libopenigtlink-dev and rebuild)");
+#endif
+  }
+  if (spec.driver == "spacemouse") {
+#ifdef TROCAR_HAVE_SPNAV
+    return std::make_unique<SpaceMouseDevice>(SpaceMouseSettings{});
+#else
+    throw Error(spec.where + ".driver: this build has no spacemouse driver (install libspnav-dev and rebuild)");
+#endif
+  }
+  throw Error(spec.where + ".driver: unknown driver \"" + spec.driver + "\"");
+}
+
+}  // namespace
+
+std::vector<RuntimeChannel> make_channels(const std::vector<DeviceSpec>& devices, const World& world) {
+  std::vector<RuntimeChannel> channels;
+  for (std::size_t i = 0; i < world.instruments.size(); ++i) {
+    const DeviceSpec spec = i < devices.size() ? devices[i] : DeviceSpec{};
+    RuntimeChannel c;
+    c.device = make_device(spec, world.instruments[i], i);
+    c.mapping.device_to_world = spec.device_to_world;
+    c.mapping.scale = spec.scale;
+    c.coupling.stiffness = spec.coupling_stiffness;
+    c.coupling.damping = spec.coupling_damping;
+    c.shaping.max_force = spec.max_force;
+    c.shaping.slew_rate = spec.slew_rate;
+    c.shaping.engage_below = spec.engage_below;
+    c.shaping.ramp_time = spec.ramp_time;
+    c.where = spec.given ? spec.where : "instruments[" + std::to_string(i) + "] (scripted from its motion)";
+    channels.push_back(std::move(c));
+  }
+  return channels;
+}
+
+ReplayResult replay_recording(const std::filesystem::path& file) {
+  const Recording rec = read_recording(file, true);
+  const std::filesystem::path scene_path(rec.header.scene_path);
+  Scene scene = parse_scene(rec.header.scene_text, file.string() + " (scene " + scene_path.string() + ")",
+                            scene_path.parent_path());
+  SimulationSettings settings = scene.settings;
+  settings.measure_penetration = false;  // metrics never change the state
+  if (scene.world.instruments.size() != rec.header.instruments)
+    throw FileError(file.string(), FileLocation::none(),
+                    "the recorded scene has " + std::to_string(scene.world.instruments.size()) +
+                        " instruments, the records " + std::to_string(rec.header.instruments));
+  Simulation sim(std::move(scene.world), settings);
+  ReplayResult r;
+  for (const StepRecord& s : rec.steps) apply_recorded_step(sim, s);
+  r.steps = rec.steps.size();
+  r.state_hash = sim.state_hash();
+  r.recorded_hash = rec.end->state_hash;
+  return r;
+}
+
+}  // namespace trocar

@@ -1,0 +1,32 @@
+#pragma once
+/// An instrument's `"device"` (DESIGN.md §5, docs/scene.md): which driver moves it in real-time
+/// mode, where the device's frame sits in the world, and the coupling and force limits. Plain
+/// data: the runtime builds the driver (the core never links a device library).
+#include <filesystem>
+#include <string>
+
+#include "trocar/core/pose.h"
+#include "trocar/core/types.h"
+
+namespace trocar {
+
+/// Scene key `instruments[i].device`.
+struct DeviceSpec {
+  bool given = false;          ///< the scene has a "device" for this instrument
+  std::string driver = "scripted";  ///< null | scripted | replay | openigtlink | spacemouse
+  std::string where;           ///< "FILE: instruments[i].device", for errors found later
+  int port = 18944;            ///< openigtlink: TCP port (0 = any free port)
+  std::filesystem::path recording;  ///< replay: the recording (relative to the scene file)
+  Pose device_to_world;        ///< "translate" (m) and "rotate_deg": the device frame in the world
+  Real scale = 1;              ///< "scale": device metres → world metres
+  Real coupling_stiffness = 1000;  ///< "coupling.stiffness" (N/m)
+  Real coupling_damping = 0.5;     ///< "coupling.damping" (N·s/m)
+  Real max_force = 3.3;        ///< "max_force" (N), also ≤ the driver's own maximum
+  Real slew_rate = 2000;       ///< "slew_rate" (N/s)
+  Real engage_below = 0.2;     ///< "engage_below" (N): safe-start threshold
+  Real ramp_time = 0.25;       ///< "ramp_time" (s): safe-start ramp
+  Real damping = 2.0;          ///< "damping": the device's own b (N·s/m), for the passivity bound
+  Real stale_after = 0.1;      ///< "stale_after" (s): openigtlink, silence that counts as stale
+};
+
+}  // namespace trocar
