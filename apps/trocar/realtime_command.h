@@ -25,5 +25,7 @@ void run_realtime(const RealtimeOptions& options);
 /// Adds the `replay` and `plot` subcommands.
 void add_replay_command(CLI::App& app, int& exit_code);
 void add_plot_command(CLI::App& app, int& exit_code);
+/// Adds `trocar study multirate` (the multirate fidelity measurement) under `study`.
+void add_multirate_command(CLI::App& study);
 
 }  // namespace trocar::cli

@@ -1,5 +1,6 @@
 #include "study_command.h"
 
+#include "realtime_command.h"
 #include "robustness_command.h"
 
 #include <algorithm>
@@ -312,6 +313,7 @@ void add_study_command(CLI::App& app, int& exit_code) {
   pen->add_flag("--quick", a->quick, "A tiny sweep (one scene, one speed, two methods, two periods) for CI");
   pen->callback([a] { run_study(*a); });
   add_robustness_command(*study);
+  add_multirate_command(*study);
 }
 
 }  // namespace trocar::cli

@@ -28,14 +28,14 @@ void check_coupling_passivity(const CouplingSettings& coupling, Real device_damp
   }
 }
 
-Vec3 coupled_proxy(const LocalContactModel& model, Real coupling_stiffness, const Vec3& device_position) {
-  if (!model.in_contact || !(coupling_stiffness > 0)) return device_position;
-  const Real big_k = coupling_stiffness;
+Vec3 coupled_force(const LocalContactModel& model, Real coupling_stiffness, const Vec3& device_position) {
+  if (!model.in_contact) return Vec3::Zero();
   const Real k = model.stiffness;
+  const Real big_k = coupling_stiffness;
+  const Real series = big_k > 0 && k > 0 ? big_k * k / (big_k + k) : 0;
   const Vec3& n = model.normal;
-  const Vec3 rhs = big_k * device_position + model.force0 + k * n * n.dot(model.position0);
-  const Vec3 proxy = (rhs - (k / (big_k + k)) * n * n.dot(rhs)) / big_k;
-  return n.dot(model.force_at(proxy)) > 0 ? proxy : device_position;
+  const Vec3 f = model.force0 + series * n * n.dot(model.position0 - device_position);
+  return n.dot(f) > 0 ? f : Vec3::Zero();
 }
 
 Vec3 ForceShaper::shape(const Vec3& commanded, Real period_s) {

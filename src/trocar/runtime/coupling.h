@@ -25,12 +25,14 @@ Real passivity_stiffness_bound(Real device_damping, Real coupling_damping, Real 
 void check_coupling_passivity(const CouplingSettings& coupling, Real device_damping, Real period_s,
                               const std::string& where);
 
-/// The proxy's position for device position x_d under one contact model: the quasi-static
-/// balance of the coupling spring and the contact, K (x_d − x_p) + F(x_p) = 0. With
-/// F(x) = F0 + k n nᵀ (x0 − x):  (K I + k n nᵀ) x_p = K x_d + F0 + k n nᵀ x0, solved by
-/// Sherman–Morrison, (K I + k n nᵀ)⁻¹ = (I − k/(K + k) n nᵀ)/K. Where that balance would need
-/// the tissue to pull (n·F(x_p) ≤ 0) the proxy is free: x_p = x_d.
-Vec3 coupled_proxy(const LocalContactModel& model, Real coupling_stiffness, const Vec3& device_position);
+/// The force rendered at device position x_d from one contact model, through the coupling.
+/// Physics moves the simulated instrument to the device's pose at each step, so at x_d = x0 the
+/// force is physics' own, F0. Between steps the model extrapolates along its normal with the
+/// contact stiffness k in series with the coupling spring K,
+///   k_s = K k / (K + k) ≤ K,   F(x_d) = F0 + k_s n nᵀ (x0 − x_d),
+/// so however stiff the organ, the device never renders more than K (the passivity bound holds
+/// for the stiffness it actually renders). Zero where the extrapolation would pull (n·F ≤ 0).
+Vec3 coupled_force(const LocalContactModel& model, Real coupling_stiffness, const Vec3& device_position);
 
 /// Per-tick force limits and the safe start (scene key `instruments[i].device`).
 struct ForceShaping {

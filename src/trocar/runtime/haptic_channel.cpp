@@ -26,25 +26,23 @@ HapticChannel::HapticChannel(Device& device, const DeviceMapping& mapping, const
                              const ForceShaping& shaping, const ModelHandover& handover)
     : device_(device), mapping_(mapping), coupling_(coupling), shaper_(shaping), handover_(handover) {}
 
-Vec3 HapticChannel::blended_proxy(const Vec3& x) const {
-  const Vec3 now = coupled_proxy(current_, coupling_.stiffness, x);
+Vec3 HapticChannel::blended_force(const Vec3& x) const {
+  const Vec3 now = coupled_force(current_, coupling_.stiffness, x);
   if (blend_tick_ + 1 >= handover_.blend_ticks) return now;
   // The jump a new model would make is spread over blend_ticks ticks: the offset between the
-  // proxy rendered just before the model arrived and the new model's, decaying linearly. This is
-  // continuous however often models arrive (a new one restarts the ramp from where it is).
+  // force rendered just before the model arrived and the new model's there, decaying linearly.
+  // Continuous however often models arrive (a new one restarts the ramp from where it is).
   const Real a = Real(blend_tick_ + 1) / Real(handover_.blend_ticks);
-  return now + (1 - a) * proxy_offset_;
+  return now + (1 - a) * force_offset_;
 }
 
 const InstrumentCommand& HapticChannel::sense(double now_s) {
   const DeviceStatus was = status_;
   status_ = device_.read(now_s, input_);
   if (status_ == DeviceStatus::kConnected && input_.sequence > 0) {
-    const Pose world = mapping_.to_world(input_.pose);
-    device_world_ = world;
+    device_world_ = mapping_.to_world(input_.pose);
     device_velocity_ = mapping_.device_to_world.apply_vector(input_.velocity) * mapping_.scale;
-    command_.pose = world;
-    command_.pose.translation = blended_proxy(world.translation);
+    command_.pose = device_world_;
     command_.jaw = input_.jaw;
     command_.active = true;
   } else {
@@ -58,38 +56,34 @@ const InstrumentCommand& HapticChannel::sense(double now_s) {
 void HapticChannel::actuate(const LocalContactModel& model, std::uint64_t model_step, double model_age_s,
                             double period_s, TickInstrument& record) {
   if (model_step != model_step_) {
-    const Vec3& x = device_world_.translation;
-    const Vec3 rendered = have_proxy_ ? last_proxy_ : x;
     current_ = model;
     model_step_ = model_step;
     blend_tick_ = 0;
-    proxy_offset_ = have_proxy_ ? Vec3(rendered - coupled_proxy(current_, coupling_.stiffness, last_device_)) : Vec3::Zero();
+    force_offset_ = have_last_ ? Vec3(last_contact_force_ - coupled_force(current_, coupling_.stiffness, last_device_))
+                               : Vec3::Zero();
   }
-  Vec3 commanded = Vec3::Zero();
   const bool live = status_ == DeviceStatus::kConnected && command_.active;
   if (live) {
     const Vec3& x = device_world_.translation;
-    const Vec3 proxy = blended_proxy(x);
-    command_.pose.translation = proxy;
-    // The device feels the coupling: spring to the proxy, damper on the relative velocity
-    // (the proxy's from its last two positions).
-    const Vec3 proxy_velocity = have_proxy_ && period_s > 0 ? Vec3((proxy - last_proxy_) / period_s) : Vec3(device_velocity_);
-    const bool touching = (proxy - x).squaredNorm() > 0;
-    commanded = coupling_.stiffness * (proxy - x);
-    if (touching) commanded += coupling_.damping * (proxy_velocity - device_velocity_);
+    const Vec3 contact = blended_force(x);
+    last_contact_force_ = contact;
+    last_device_ = x;
+    have_last_ = true;
+    Vec3 commanded = contact;
+    // The coupling's damper, along the contact normal while in contact: resists the device's
+    // approach and withdrawal (B of the passivity bound).
+    if (current_.in_contact && contact.squaredNorm() > 0)
+      commanded -= coupling_.damping * current_.normal * current_.normal.dot(device_velocity_);
     // A model older than stale_after fades out over fade_time (physics stalled).
     if (model_age_s > handover_.stale_after) {
       const double keep = handover_.fade_time > 0 ? 1 - (model_age_s - handover_.stale_after) / handover_.fade_time : 0;
       commanded *= std::clamp(keep, 0.0, 1.0);
     }
-    last_proxy_ = proxy;
-    last_device_ = x;
-    have_proxy_ = true;
     force_ = shaper_.shape(commanded, period_s);
   } else {
     shaper_.disengage();  // zero now; the safe start again on reconnect
     force_ = Vec3::Zero();
-    have_proxy_ = false;
+    have_last_ = false;
   }
   ++blend_tick_;
 

@@ -1,6 +1,6 @@
 #pragma once
-/// One instrument's haptic path, run every haptic tick: device → world pose → proxy (virtual
-/// coupling against the local contact model) → force → device. Allocation-, lock- and
+/// One instrument's haptic path, run every haptic tick: device → world pose (sent to physics) →
+/// force from the local contact model through the virtual coupling → device. Allocation-, lock- and
 /// exception-free; the Device's read() and write() must be too.
 #include <cstdint>
 
@@ -30,7 +30,7 @@ struct ModelHandover {
 
 /// What the physics step should do with this instrument (published by the haptic tick).
 struct InstrumentCommand {
-  Pose pose;           ///< proxy pose (world)
+  Pose pose;           ///< the device's pose in the world, where physics puts the instrument
   Real jaw = 0;        ///< 0…1
   bool active = false; ///< a sample has arrived (before: the instrument stays where the scene put it)
 };
@@ -41,10 +41,10 @@ class HapticChannel {
   HapticChannel(Device& device, const DeviceMapping& mapping, const CouplingSettings& coupling,
                 const ForceShaping& shaping, const ModelHandover& handover);
 
-  /// Reads the device (at now_s since the start); returns the proxy from the model in use.
+  /// Reads the device (at now_s since the start); returns the command for physics.
   const InstrumentCommand& sense(double now_s);
   /// Takes `model` (published at physics step `model_step`, `model_age_s` old), computes the
-  /// proxy and the force, shapes it, writes it to the device, and fills `record`.
+  /// force, shapes it, writes it to the device, and fills `record`.
   void actuate(const LocalContactModel& model, std::uint64_t model_step, double model_age_s, double period_s,
                TickInstrument& record);
 
@@ -55,7 +55,8 @@ class HapticChannel {
   std::uint64_t disconnects() const { return disconnects_; }     ///< connected → not, so far
 
  private:
-  Vec3 blended_proxy(const Vec3& device_position) const;
+  /// The model's force at x with the jump of the last model change spread over blend_ticks.
+  Vec3 blended_force(const Vec3& device_position) const;
 
   Device& device_;
   DeviceMapping mapping_;
@@ -67,12 +68,12 @@ class HapticChannel {
   Pose device_world_;                 ///< last good device pose (held when the device drops)
   Vec3 device_velocity_ = Vec3::Zero();
   LocalContactModel current_;         ///< newest model
-  Vec3 proxy_offset_ = Vec3::Zero();  ///< rendered − new model's proxy when it arrived (m)
+  Vec3 force_offset_ = Vec3::Zero();  ///< rendered − new model's force when it arrived (N)
   Vec3 last_device_ = Vec3::Zero();   ///< device position of the last rendered tick (m)
+  Vec3 last_contact_force_ = Vec3::Zero();  ///< contact force of the last rendered tick (N)
+  bool have_last_ = false;            ///< last_* hold a rendered tick
   std::uint64_t model_step_ = 0;
   int blend_tick_ = 0;                ///< ticks since current_ arrived
-  Vec3 last_proxy_ = Vec3::Zero();
-  bool have_proxy_ = false;
   InstrumentCommand command_;
   Vec3 force_ = Vec3::Zero();
   std::uint64_t disconnects_ = 0;

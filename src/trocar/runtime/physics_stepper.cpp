@@ -15,9 +15,11 @@ const StepMetrics& apply_recorded_step(Simulation& sim, const StepRecord& record
   return sim.step(record.dt);
 }
 
-PhysicsStepper::PhysicsStepper(Simulation& sim, Real stiffness_prior)
-    : sim_(sim), instruments_(std::min(sim.world().instruments.size(), kMaxRuntimeInstruments)) {
+PhysicsStepper::PhysicsStepper(Simulation& sim, Real stiffness_prior, Real force_filter)
+    : sim_(sim), instruments_(std::min(sim.world().instruments.size(), kMaxRuntimeInstruments)),
+      force_filter_(force_filter) {
   for (auto& e : estimators_) e = ContactStiffnessEstimator(stiffness_prior);
+  for (auto& f : filtered_force_) f = Vec3::Zero();
 }
 
 const ContactModelSet& PhysicsStepper::step(const InstrumentCommandSet& commands, Real dt, std::int64_t now_ns,
@@ -40,7 +42,11 @@ const ContactModelSet& PhysicsStepper::step(const InstrumentCommandSet& commands
   for (std::size_t i = 0; i < instruments_; ++i) {
     const Vec3 force = sim_.instrument_metrics()[i].force;
     const Vec3 position = sim_.world().instruments[i].instrument.pose().translation;
-    models_.instruments[i] = estimators_[i].update(position, force);
+    // First-order low-pass, exact for a held input: a = dt/(τ + dt) (backward Euler of τ ḟ = F − f).
+    const Real a = force_filter_ > 0 ? dt / (force_filter_ + dt) : 1;
+    filtered_force_[i] += a * (force - filtered_force_[i]);
+    if (force.squaredNorm() == 0 && filtered_force_[i].norm() < 1e-3) filtered_force_[i].setZero();
+    models_.instruments[i] = estimators_[i].update(position, filtered_force_[i]);
     record.instrument[i].force = {force.x(), force.y(), force.z()};
   }
   models_.step = m.step_index;

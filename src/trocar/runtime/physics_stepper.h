@@ -32,7 +32,11 @@ const StepMetrics& apply_recorded_step(Simulation& sim, const StepRecord& record
 class PhysicsStepper {
  public:
   /// stiffness_prior: the contact stiffness (N/m) a model uses until one is measured.
-  PhysicsStepper(Simulation& sim, Real stiffness_prior);
+  /// force_filter: time constant (s) of the low-pass on the step's instrument force before it
+  /// enters the model (0 = none). The sdf constraint's force is an impulse per step (−Σ m Δx/dt²):
+  /// its mean is the contact force, but step to step it swings by the tissue vertices' inertia,
+  /// and a proxy that followed those swings would feed them back into the next step.
+  PhysicsStepper(Simulation& sim, Real stiffness_prior, Real force_filter = 0.005);
   /// One step of dt seconds with `commands`; `now_ns` (steady clock) stamps the models. Fills
   /// `record` with what replay needs and the module timings. No allocation after the first.
   const ContactModelSet& step(const InstrumentCommandSet& commands, Real dt, std::int64_t now_ns, StepRecord& record);
@@ -46,6 +50,8 @@ class PhysicsStepper {
   std::size_t instruments_;
   std::array<ContactStiffnessEstimator, kMaxRuntimeInstruments> estimators_;
   std::array<bool, kMaxRuntimeInstruments> placed_{};
+  std::array<Vec3, kMaxRuntimeInstruments> filtered_force_{};  ///< low-passed force (N)
+  Real force_filter_;
   ContactModelSet models_;
   PhysicsTimings timings_;
 };

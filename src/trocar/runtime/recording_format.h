@@ -27,7 +27,7 @@ using PoseWords = std::array<double, 7>;
 /// One instrument in one haptic tick.
 struct TickInstrument {
   PoseWords device_pose{};                ///< device pose mapped into the world
-  PoseWords proxy_pose{};                 ///< the proxy sent to physics (world)
+  PoseWords proxy_pose{};                 ///< the pose sent to physics (world; held while the device is away)
   std::array<double, 3> force{};          ///< force rendered to the device (N, world)
   double jaw = 0;                         ///< jaw closure 0…1
   std::uint32_t status = 0;               ///< DeviceStatus

@@ -1,0 +1,220 @@
+#include "trocar/runtime/fidelity.h"
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <fstream>
+#include <sstream>
+
+#include "trocar/core/error.h"
+#include "trocar/device/scripted_device.h"
+#include "trocar/runtime/recording.h"
+#include "trocar/runtime/runtime.h"
+#include "trocar/runtime/session.h"
+
+namespace trocar {
+namespace {
+
+/// A device that returns the pose set before each read (the reference's recorded poses).
+class FeedDevice final : public Device {
+ public:
+  explicit FeedDevice(const DeviceSpecs& specs) : specs_(specs) {}
+  void feed(const Pose& pose, Real jaw, bool connected) {
+    input_.pose = pose;
+    input_.jaw = jaw;
+    connected_ = connected;
+    ++input_.sequence;
+  }
+  void open() override {}
+  void close() override {}
+  DeviceStatus read(double, DeviceInput& input) override {
+    input = input_;
+    return connected_ ? DeviceStatus::kConnected : DeviceStatus::kDisconnected;
+  }
+  void write(const DeviceOutput&) override {}
+  const DeviceSpecs& specs() const override { return specs_; }
+  DeviceCounters counters() const override { return {}; }
+
+ private:
+  DeviceSpecs specs_;
+  DeviceInput input_;
+  bool connected_ = true;
+};
+
+std::string read_text(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  if (!in) throw Error(p.string() + ": cannot open the scene file");
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+/// The lock-step reference on a sequence of device poses (world, instrument 0; other
+/// instruments follow their motion).
+std::vector<Vec3> lockstep_reference(const std::string& text, const std::filesystem::path& dir, double rate_hz,
+                                     const std::vector<Pose>& poses, const std::vector<Real>& jaws,
+                                     double& device_max_force) {
+  Scene scene = parse_scene(text, "fidelity reference", dir);
+  scene.settings.measure_penetration = false;
+  const std::vector<DeviceSpec> specs = scene.devices;
+  Simulation sim(std::move(scene.world), scene.settings);
+  std::vector<RuntimeChannel> channels = make_channels(specs, sim.world());
+  FeedDevice feed(channels[0].device->specs());
+  device_max_force = std::min(channels[0].shaping.max_force, feed.specs().max_force);
+  ForceShaping shaping = channels[0].shaping;
+  shaping.max_force = device_max_force;
+  PhysicsStepper stepper(sim, RuntimeSettings{}.stiffness_prior);
+  ModelHandover once;
+  once.blend_ticks = 1;
+  HapticChannel channel(feed, DeviceMapping{}, channels[0].coupling, shaping, once);
+  const double period = 1.0 / rate_hz;
+  InstrumentCommandSet commands;
+  StepRecord record;
+  TickInstrument tick;
+  std::vector<Vec3> forces;
+  forces.reserve(poses.size());
+  for (std::size_t k = 0; k < poses.size(); ++k) {
+    feed.feed(poses[k], jaws[k], true);
+    commands.instruments[0] = channel.sense(double(k) * period);
+    const ContactModelSet& m = stepper.step(commands, period, 0, record);
+    channel.actuate(m.instruments[0], m.step, 0, period, tick);
+    forces.push_back(channel.force());
+  }
+  return forces;
+}
+
+}  // namespace
+
+FidelityResult compare_forces(const std::vector<Vec3>& rendered, const std::vector<Vec3>& reference,
+                              const std::vector<std::uint8_t>& arrivals, double device_max_force) {
+  FidelityResult r;
+  r.device_max_force = device_max_force;
+  const std::size_t n = std::min(rendered.size(), reference.size());
+  r.ticks = n;
+  double sum = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    r.peak_force = std::max(r.peak_force, reference[k].norm());
+    sum += (rendered[k] - reference[k]).squaredNorm();
+    if (k > 0) {
+      r.reference_max_jump = std::max(r.reference_max_jump, (reference[k] - reference[k - 1]).norm());
+      const double jump = (rendered[k] - rendered[k - 1]).norm();
+      r.max_jump = std::max(r.max_jump, jump);
+      if (k < arrivals.size() && arrivals[k]) {
+        r.max_arrival_jump = std::max(r.max_arrival_jump, jump);
+        ++r.model_arrivals;
+      }
+    }
+  }
+  r.rms_error = n ? std::sqrt(sum / double(n)) : 0;
+  r.rms_fraction = r.peak_force > 0 ? r.rms_error / r.peak_force : 0;
+  return r;
+}
+
+FidelityResult emulate_multirate(const std::string& text, const std::filesystem::path& dir,
+                                 const EmulationOptions& o) {
+  Scene scene = parse_scene(text, "fidelity emulation", dir);
+  scene.settings.measure_penetration = false;
+  const std::vector<DeviceSpec> specs = scene.devices;
+  Simulation sim(std::move(scene.world), scene.settings);
+  std::vector<RuntimeChannel> channels = make_channels(specs, sim.world());
+  const double period = 1.0 / o.rate_hz;
+  PhysicsStepper stepper(sim, RuntimeSettings{}.stiffness_prior);
+  ModelHandover handover;
+  std::vector<HapticChannel> haptic;
+  for (RuntimeChannel& c : channels) {
+    check_coupling_passivity(c.coupling, c.device->specs().damping, period, c.where + ".coupling");
+    c.shaping.max_force = std::min(c.shaping.max_force, c.device->specs().max_force);
+    haptic.emplace_back(*c.device, c.mapping, c.coupling, c.shaping, handover);
+  }
+  const auto ticks = static_cast<std::size_t>(std::llround(o.duration * o.rate_hz));
+  std::deque<ContactModelSet> in_flight;  // models on their way to the haptic loop
+  ContactModelSet visible;
+  InstrumentCommandSet commands;
+  StepRecord record;
+  TickInstrument tick;
+  std::vector<Vec3> rendered;
+  std::vector<Pose> poses;
+  std::vector<Real> jaws;
+  std::vector<std::uint8_t> arrivals;
+  std::vector<std::size_t> due;
+  for (std::size_t k = 0; k < ticks; ++k) {
+    const double now = double(k) * period;
+    for (HapticChannel& h : haptic) h.sense(now);
+    bool arrived = false;
+    while (!due.empty() && due.front() <= k) {
+      visible = in_flight.front();
+      in_flight.pop_front();
+      due.erase(due.begin());
+      arrived = true;
+    }
+    for (std::size_t i = 0; i < haptic.size(); ++i)
+      haptic[i].actuate(visible.instruments[i], visible.step, 0, period, tick);
+    rendered.push_back(haptic[0].force());
+    // The device pose the reference will see this tick: the mapped device pose (recorded).
+    poses.push_back(from_words(tick.device_pose));
+    jaws.push_back(tick.jaw);
+    arrivals.push_back(arrived ? 1 : 0);
+    if (k % static_cast<std::size_t>(o.physics_every) == 0) {
+      for (std::size_t i = 0; i < haptic.size(); ++i) commands.instruments[i] = haptic[i].command();
+      in_flight.push_back(stepper.step(commands, period * o.physics_every, 0, record));
+      due.push_back(k + static_cast<std::size_t>(std::max(1, o.latency_ticks)));
+    }
+  }
+  // Only instrument 0's first tick pose is fed before it ever moved: the reference starts alike.
+  double device_max = 0;
+  const std::vector<Vec3> reference = lockstep_reference(text, dir, o.rate_hz, poses, jaws, device_max);
+  FidelityResult r = compare_forces(rendered, reference, arrivals, device_max);
+  r.physics_rate_hz = o.rate_hz / o.physics_every;
+  return r;
+}
+
+FidelityResult measure_multirate(const std::filesystem::path& scene_file, double duration, double rate_hz,
+                                 const std::filesystem::path& recording) {
+  const std::string text = read_text(scene_file);
+  {
+    Scene scene = parse_scene(text, scene_file.string(), scene_file.parent_path());
+    scene.settings.measure_penetration = false;
+    const std::vector<DeviceSpec> specs = scene.devices;
+    const Real timestep = scene.timestep;
+    Simulation sim(std::move(scene.world), scene.settings);
+    RuntimeSettings settings;
+    settings.haptic_rate_hz = rate_hz;
+    settings.duration = duration;
+    settings.physics_timestep = timestep;
+    RecordingHeader h;
+    h.instruments = static_cast<std::uint32_t>(sim.world().instruments.size());
+    h.haptic_rate_hz = rate_hz;
+    h.timestep = timestep;
+    h.scene_path = std::filesystem::absolute(scene_file).string();
+    h.scene_text = text;
+    RecordingWriter writer(recording, h);
+    Runtime runtime(sim, make_channels(specs, sim.world()), settings, &writer);
+    runtime.run();
+    EndRecord end;
+    end.state_hash = sim.state_hash();
+    writer.finish(end);
+  }
+  const Recording rec = read_recording(recording, true);
+  std::vector<Vec3> rendered;
+  std::vector<Pose> poses;
+  std::vector<Real> jaws;
+  std::vector<std::uint8_t> arrivals;
+  std::uint64_t last_model = 0;
+  for (const TickRecord& t : rec.ticks) {
+    const TickInstrument& ti = t.instrument[0];
+    rendered.emplace_back(ti.force[0], ti.force[1], ti.force[2]);
+    poses.push_back(from_words(ti.device_pose));
+    jaws.push_back(ti.jaw);
+    arrivals.push_back(ti.model_step != last_model ? 1 : 0);
+    last_model = ti.model_step;
+  }
+  double device_max = 0;
+  const std::vector<Vec3> reference =
+      lockstep_reference(text, scene_file.parent_path(), rate_hz, poses, jaws, device_max);
+  FidelityResult r = compare_forces(rendered, reference, arrivals, device_max);
+  const double wall = rec.ticks.empty() ? 0 : double(rec.ticks.back().time_ns) * 1e-9;
+  r.physics_rate_hz = wall > 0 ? double(rec.steps.size()) / wall : 0;
+  return r;
+}
+
+}  // namespace trocar
