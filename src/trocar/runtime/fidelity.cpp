@@ -160,7 +160,6 @@ FidelityResult emulate_multirate(const std::string& text, const std::filesystem:
       due.push_back(k + static_cast<std::size_t>(std::max(1, o.latency_ticks)));
     }
   }
-  // Only instrument 0's first tick pose is fed before it ever moved: the reference starts alike.
   double device_max = 0;
   const std::vector<Vec3> reference = lockstep_reference(text, dir, o.rate_hz, poses, jaws, device_max);
   FidelityResult r = compare_forces(rendered, reference, arrivals, device_max);
