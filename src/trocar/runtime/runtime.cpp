@@ -1,5 +1,6 @@
 #include "trocar/runtime/runtime.h"
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <thread>
@@ -92,8 +93,9 @@ void Runtime::haptic_thread() {
   std::int64_t previous = 0;
   TickRecord record;
   std::uint64_t tick = 0;
+  const std::int64_t spin = std::min(settings_.spin_ns, period_ns_ / 2);
   while (next < end_ns) {
-    wait_until(next, settings_.spin_ns);
+    wait_until(next, spin);
     const std::int64_t t0 = monotonic_ns();
     if (double(t0 - next) > 0.1 * double(period_ns_)) ++s.late_ticks;
     if (previous != 0) {
@@ -155,7 +157,7 @@ RuntimeReport Runtime::run() {
     const std::string w = lock_memory();
     if (!w.empty()) report_.warnings.push_back(w);
   }
-  start_ns_ = monotonic_ns() + 2000000;  // 2 ms for the threads to start
+  start_ns_ = monotonic_ns() + 20000000;  // 20 ms for the threads to start and take their CPUs
   const std::uint64_t steps_before = sim_.metrics().step_index;
   const double sim_before = sim_.time();
   std::thread physics;

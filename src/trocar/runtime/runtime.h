@@ -27,7 +27,10 @@ struct RuntimeSettings {
   bool lock_memory = false;     ///< mlockall before starting
   int haptic_cpu = 1;           ///< CPU the haptic thread is pinned to (< 0: none)
   int physics_cpu = 0;          ///< CPU of the physics thread (< 0: none)
-  std::int64_t spin_ns = 200000;  ///< the haptic wait polls the clock for its last 200 µs
+  /// The haptic wait polls the clock for its last spin_ns, at most half a period: a SCHED_FIFO
+  /// thread that spins all the time is throttled by the kernel (sched_rt_runtime_us: 95 % of each
+  /// second), which stalls it for tens of ms; sleeping half of each period stays well below.
+  std::int64_t spin_ns = 200000;
   Real stiffness_prior = 500;   ///< N/m, contact stiffness before one is measured
   ModelHandover handover;       ///< blending and ageing of models
 };
