@@ -171,6 +171,7 @@ void plot_timing(const PlotOptions& o) {
   std::ofstream gp(out / "timing.gp");
   const auto plot = [&](const char* terminal, const char* ext) {
     gp << "set terminal " << terminal << " size 1000,600\n"
+       << "unset logscale y\nset xrange [0:*]\n"
        << "set output 'physics_timing." << ext << "'\n"
        << "set title 'Physics: time per step of each module (the seed, Fig. 5.4)'\n"
        << "set xlabel 'time (s)'\nset ylabel 'time per step (us)'\nset key outside right\nset grid\n"
@@ -179,7 +180,7 @@ void plot_timing(const PlotOptions& o) {
           "'' using 2:8 with lines lw 2 title 'whole step'\n"
        << "set output 'haptic_timing." << ext << "'\n"
        << "set title 'Haptic loop: period and compute per tick (the seed, Fig. 5.5)'\n"
-       << "set ylabel 'us'\n"
+       << "set ylabel 'us (log scale)'\nset logscale y\n"
        << "plot 'ticks.dat' using 2:3 with lines title 'period', '' using 2:4 with lines title 'tick compute'\n";
   };
   plot("svg dynamic", "svg");

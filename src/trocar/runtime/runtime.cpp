@@ -137,6 +137,7 @@ void Runtime::physics_thread() {
   StepRecord record;
   ContactModelSet models;
   std::int64_t next = start_ns_;
+  wait_until(start_ns_, 0);  // start with the haptic thread, not before
   while (!s.stop.load(std::memory_order_acquire)) {
     s.commands.read(commands);
     models = stepper_.step(commands, dt, 0, record);
