@@ -1,8 +1,10 @@
 #include "trocar/runtime/recording.h"
 
 #include <fcntl.h>
+#include <sys/uio.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cstring>
@@ -63,7 +65,7 @@ RecordingWriter::RecordingWriter(const std::filesystem::path& file, const Record
     ::close(fd_);
     throw FileError(file.string(), FileLocation::none(), "cannot write the header");
   }
-  block_.reserve(kBlockRecords * sizeof(StepRecord) + sizeof(BlockHeader));
+  block_.reserve(kBlockRecords * std::max(sizeof(TickRecord), sizeof(StepRecord)));
   thread_ = std::thread([this] { run(); });
 }
 
@@ -100,20 +102,25 @@ void RecordingWriter::write_block(const std::vector<unsigned char>& payload, std
   bh.records = records;
   bh.payload_bytes = static_cast<std::uint32_t>(payload.size());
   bh.checksum = fnv1a(payload.data(), payload.size());
-  // One write per block: a killed process leaves whole blocks (the kernel has them) and at most
-  // one partial block at the end, which the reader reports.
-  std::vector<unsigned char> out(sizeof(bh) + payload.size());
-  std::memcpy(out.data(), &bh, sizeof(bh));
-  std::memcpy(out.data() + sizeof(bh), payload.data(), payload.size());
-  std::size_t done = 0;
-  while (done < out.size()) {
-    const ssize_t n = ::write(fd_, out.data() + done, out.size() - done);
+  // One writev per block: a killed process leaves whole blocks (the kernel has them) and at
+  // most one partial block at the end, which the reader reports. No allocation.
+  iovec parts[2] = {{&bh, sizeof(bh)}, {const_cast<unsigned char*>(payload.data()), payload.size()}};
+  std::size_t total = sizeof(bh) + payload.size();
+  int first = 0;
+  while (total > 0) {
+    const ssize_t n = ::writev(fd_, parts + first, 2 - first);
     if (n < 0 && errno == EINTR) continue;
     if (n <= 0) {
       if (error_.empty()) error_ = std::string("write failed: ") + std::strerror(errno);
       return;
     }
-    done += static_cast<std::size_t>(n);
+    auto done = static_cast<std::size_t>(n);
+    total -= done;
+    while (first < 2 && done >= parts[first].iov_len) done -= parts[first++].iov_len;
+    if (first < 2) {
+      parts[first].iov_base = static_cast<unsigned char*>(parts[first].iov_base) + done;
+      parts[first].iov_len -= done;
+    }
   }
 }
 
