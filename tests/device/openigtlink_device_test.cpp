@@ -4,8 +4,10 @@
 #include <gtest/gtest.h>
 
 #ifdef TROCAR_HAVE_OPENIGTLINK
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <thread>
 #include <vector>
 
@@ -19,6 +21,8 @@
 #include <igtlSensorMessage.h>
 #include <igtlStringMessage.h>
 #include <igtlTransformMessage.h>
+#include <igtl_header.h>
+#include <igtl_util.h>
 #pragma GCC diagnostic pop
 
 #include "trocar/core/error.h"
@@ -78,6 +82,20 @@ void send_position(igtl::ClientSocket* c, float x, float y, float z, float qx, f
   m->SetQuaternion(qx, qy, qz, qw);
   m->Pack();
   c->Send(m->GetPackPointer(), m->GetPackSize());
+}
+
+// A version-1 message from raw parts: `announced` body bytes in the header (CRC over `body`),
+// then `body` itself — for bodies the library would not build.
+void send_raw(igtl::ClientSocket* c, const char* type, std::vector<unsigned char> body, std::uint64_t announced) {
+  igtl_header h{};
+  h.version = 1;
+  std::memcpy(h.name, type, std::min(std::strlen(type), sizeof h.name));  // not 0-terminated when full
+  std::memcpy(h.device_name, "stylus", 6);
+  h.body_size = announced;
+  h.crc = crc64(body.data(), body.size(), 0);
+  igtl_header_convert_byte_order(&h);
+  c->Send(&h, IGTL_HEADER_SIZE);
+  if (!body.empty()) c->Send(body.data(), static_cast<int>(body.size()));
 }
 
 TEST(OpenIgtLink, TransformAndPositionMoveTheInstrumentAndForcesComeBack) {
@@ -190,6 +208,78 @@ TEST(OpenIgtLink, CloseWithAClientConnectedReturnsPromptly) {
   EXPECT_LT(std::chrono::duration<double>(Clock::now() - t0).count(), 1.0);
   EXPECT_EQ(s.read(in), DeviceStatus::kDisconnected);
   OpenIgtLinkDevice never_opened(OpenIgtLinkSettings{});  // destroyed without open(): fine
+}
+
+TEST(OpenIgtLink, WrongBodySizesAreDroppedAndAGarbageHeaderClosesTheConnection) {
+  Server s;
+  DeviceInput in;
+  {
+    igtl::ClientSocket::Pointer c = connect(s.device->port());
+    send_transform(c, 1, 2, 3, 0);
+    ASSERT_TRUE(wait_for([&] { s.read(in); return in.sequence == 1; }));
+    // A TRANSFORM body of 60 bytes (a good 48-byte matrix and 12 more), CRC right.
+    igtl::TransformMessage::Pointer m = igtl::TransformMessage::New();
+    igtl::Matrix4x4 t;
+    igtl::IdentityMatrix(t);
+    t[0][3] = 50;
+    m->SetMatrix(t);
+    m->Pack();
+    std::vector<unsigned char> body(static_cast<unsigned char*>(m->GetPackBodyPointer()),
+                                    static_cast<unsigned char*>(m->GetPackBodyPointer()) + m->GetPackBodySize());
+    body.resize(60, 0);
+    send_raw(c, "TRANSFORM", body, body.size());
+    send_raw(c, "POSITION", std::vector<unsigned char>(12, 0), 12);  // position only: no rotation
+    send_transform(c, 4, 5, 6, 0);
+    ASSERT_TRUE(wait_for([&] { s.read(in); return in.sequence == 2; }));
+    EXPECT_EQ(s.device->counters().malformed, 2u);
+    EXPECT_NEAR((in.pose.translation - Vec3(0.004, 0.005, 0.006)).norm(), 0, 1e-9);
+    send_raw(c, "TRANSFORM", {}, std::uint64_t{2} << 20);  // 2 MiB announced: a garbage header
+    ASSERT_TRUE(wait_for([&] { return s.read(in) == DeviceStatus::kDisconnected; }));
+    EXPECT_EQ(s.device->counters().malformed, 3u);
+  }
+  igtl::ClientSocket::Pointer again = connect(s.device->port());
+  ASSERT_TRUE(wait_for([&] { return s.device->counters().connections == 2; }));
+  EXPECT_EQ(s.read(in), DeviceStatus::kStale);  // the last pose is the previous client's
+  send_transform(again, 7, 8, 9, 0);
+  ASSERT_TRUE(wait_for([&] { return s.read(in) == DeviceStatus::kConnected; }));
+  EXPECT_EQ(s.device->counters().connections, 2u);
+  EXPECT_EQ(s.device->counters().samples, 3u);
+}
+
+TEST(OpenIgtLink, AnUnsupportedBodyArrivingInPiecesIsSkippedWhole) {
+  Server s;
+  igtl::ClientSocket::Pointer c = connect(s.device->port());
+  igtl::StringMessage::Pointer m = igtl::StringMessage::New();
+  m->SetDeviceName("note");
+  m->SetString(std::string(4000, 'a').c_str());
+  m->Pack();
+  const auto* bytes = static_cast<const char*>(m->GetPackPointer());
+  c->Send(bytes, IGTL_HEADER_SIZE + 100);  // the rest comes after the driver's receive timeout
+  std::this_thread::sleep_for(std::chrono::milliseconds(60));
+  c->Send(bytes + IGTL_HEADER_SIZE + 100, m->GetPackSize() - IGTL_HEADER_SIZE - 100);
+  send_transform(c, 42, 0, 0, 0);
+  DeviceInput in;
+  ASSERT_TRUE(wait_for([&] { s.read(in); return in.sequence == 1; }));
+  EXPECT_NEAR(in.pose.translation.x(), 0.042, 1e-9);
+  EXPECT_EQ(s.device->counters().malformed, 1u);
+}
+
+TEST(OpenIgtLink, ReopensOnTheSamePortRightAfterClosingWithAClient) {
+  Server s;
+  const int port = s.device->port();
+  igtl::ClientSocket::Pointer c = connect(port);
+  send_transform(c, 1, 2, 3, 0);
+  DeviceInput in;
+  ASSERT_TRUE(wait_for([&] { return s.read(in) == DeviceStatus::kConnected; }));
+  s.device->close();  // the server side closes first: its end of the connection lingers
+  OpenIgtLinkSettings same = s.settings;
+  same.port = port;
+  OpenIgtLinkDevice reopened(same);
+  ASSERT_NO_THROW(reopened.open());
+  igtl::ClientSocket::Pointer again = connect(port);
+  send_transform(again, 4, 5, 6, 0);
+  ASSERT_TRUE(wait_for([&] { return reopened.read(0, in) == DeviceStatus::kConnected; }));
+  EXPECT_NEAR((in.pose.translation - Vec3(0.004, 0.005, 0.006)).norm(), 0, 1e-9);
 }
 
 TEST(OpenIgtLink, PortInUseIsAClearError) {

@@ -33,7 +33,7 @@ struct DeviceSpecs {
   Real damping = 0;
 };
 
-/// One sample from the device (trivially copyable: it goes through a Seqlock).
+/// One sample from the device (plain data of standard layout: it goes through a Seqlock).
 struct DeviceInput {
   Pose pose;                               ///< device frame (m)
   Vec3 velocity = Vec3::Zero();            ///< linear velocity (m/s), device frame

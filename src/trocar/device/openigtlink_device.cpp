@@ -1,5 +1,8 @@
 #include "trocar/device/openigtlink_device.h"
 
+#include <sys/socket.h>
+
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
@@ -21,14 +24,45 @@
 
 namespace trocar {
 
+namespace {
+
+// igtl::ServerSocket binds without SO_REUSEADDR: after a close() with a client connected, the
+// port stays taken while the old connection sits in FIN-WAIT/TIME-WAIT (about a minute) and a
+// reopen fails. This one sets it (a second listener on the port is still refused).
+class ReusableServerSocket : public igtl::ServerSocket {
+ public:
+  typedef igtl::SmartPointer<ReusableServerSocket> Pointer;
+  static Pointer make() {
+    Pointer p = new ReusableServerSocket;
+    p->UnRegister();  // igtl objects start with one reference; the smart pointer holds it now
+    return p;
+  }
+  /// Like CreateServer(port): 0 on success, -1 on failure.
+  int listen_on(int port) {
+    m_SocketDescriptor = CreateSocket();
+    if (m_SocketDescriptor < 0) return -1;
+    const int on = 1;
+    setsockopt(m_SocketDescriptor, SOL_SOCKET, SO_REUSEADDR, &on, sizeof on);
+    if (BindSocket(m_SocketDescriptor, port) != 0 || Listen(m_SocketDescriptor) != 0) {
+      CloseSocket();
+      return -1;
+    }
+    return 0;
+  }
+};
+
+}  // namespace
+
 struct OpenIgtLinkDevice::Sockets {
-  igtl::ServerSocket::Pointer server;
+  ReusableServerSocket::Pointer server;
   igtl::ClientSocket::Pointer client;
 };
 
 namespace {
 
 constexpr std::uint64_t kMaxBody = 1 << 20;  // a larger body announces a garbage header
+constexpr std::uint64_t kTransformBody = 48;  // 12 float32: the 3×3 rotation, then translation
+constexpr std::uint64_t kPositionBody = 28;   // 7 float32: position, quaternion x, y, z, w
 
 std::int64_t steady_ns() {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
@@ -52,6 +86,18 @@ Io receive_exact(igtl::ClientSocket* s, void* data, int n, const std::atomic<boo
   return Io::kDone;
 }
 
+// Reads and drops n bytes (igtl's Skip() miscounts on the receive timeout and desyncs the stream).
+Io skip_exact(igtl::ClientSocket* s, std::uint64_t n, const std::atomic<bool>& stop) {
+  char scratch[4096];
+  while (n > 0) {
+    const int chunk = static_cast<int>(std::min<std::uint64_t>(n, sizeof scratch));
+    const Io r = receive_exact(s, scratch, chunk, stop);
+    if (r != Io::kDone) return r;
+    n -= static_cast<std::uint64_t>(chunk);
+  }
+  return Io::kDone;
+}
+
 bool orthonormal(const Mat3& r) { return (r * r.transpose() - Mat3::Identity()).cwiseAbs().maxCoeff() < 1e-3; }
 
 }  // namespace
@@ -68,8 +114,8 @@ OpenIgtLinkDevice::~OpenIgtLinkDevice() { close(); }
 void OpenIgtLinkDevice::open() {
   if (sockets_) return;
   sockets_ = new Sockets;
-  sockets_->server = igtl::ServerSocket::New();
-  if (sockets_->server->CreateServer(settings_.port) < 0) {
+  sockets_->server = ReusableServerSocket::make();
+  if (sockets_->server->listen_on(settings_.port) < 0) {
     delete sockets_;
     sockets_ = nullptr;
     throw Error("openigtlink: cannot listen on TCP port " + std::to_string(settings_.port) + " (in use?)");
@@ -113,6 +159,7 @@ void OpenIgtLinkDevice::serve() {
       c->SetReceiveTimeout(20);
       sockets_->client = c;
       connections_.fetch_add(1);
+      connect_sequence_ = sequence;  // before connected_: read() sees it once connected
       connected_ = true;
       last_ns = 0;
       continue;
@@ -133,6 +180,14 @@ void OpenIgtLinkDevice::serve() {
       continue;
     }
     const std::string type = header->GetDeviceType();
+    const std::uint64_t expected = type == "TRANSFORM" ? kTransformBody : type == "POSITION" ? kPositionBody : 0;
+    if (body != expected) {  // another type, or a body of the wrong size: skipped whole
+      const Io b = skip_exact(client, body, stop_);
+      if (b == Io::kStopped) break;
+      malformed_.fetch_add(1);
+      if (b == Io::kClosed) drop_client();
+      continue;
+    }
     bool accepted = false;
     Pose pose;
     const auto read_body = [&](igtl::MessageBase* m) -> Io {
@@ -165,7 +220,7 @@ void OpenIgtLinkDevice::serve() {
           accepted = true;
         }
       }
-    } else if (type == "POSITION") {
+    } else {  // POSITION
       igtl::PositionMessage::Pointer m = igtl::PositionMessage::New();
       const Io b = read_body(m);
       if (b == Io::kStopped) break;
@@ -185,12 +240,6 @@ void OpenIgtLinkDevice::serve() {
           pose.translation = p;
           accepted = true;
         }
-      }
-    } else {
-      if (body > 0 && client->Skip(static_cast<int>(body)) == 0) {
-        malformed_.fetch_add(1);
-        drop_client();
-        continue;
       }
     }
     if (!accepted) {
@@ -226,6 +275,7 @@ DeviceStatus OpenIgtLinkDevice::read(double /*now_s*/, DeviceInput& input) {
   sample_.read(s);
   if (s.sequence == 0) return DeviceStatus::kStale;  // connected, nothing yet
   input = s;
+  if (s.sequence <= connect_sequence_.load()) return DeviceStatus::kStale;  // a previous client's pose
   const double age = double(steady_ns() - s.timestamp_ns) * 1e-9;
   return age > settings_.stale_after_s ? DeviceStatus::kStale : DeviceStatus::kConnected;
 }

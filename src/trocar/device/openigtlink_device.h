@@ -5,16 +5,21 @@
 /// drives trocar.
 ///
 /// Messages in (one client at a time; a new client may connect after the last one left):
-///  - TRANSFORM: a 4×4 homogeneous matrix; rotation part orthonormal (within 1e-3), translation
-///    in **millimetres** (the OpenIGTLink / PLUS / Slicer convention), converted to metres.
-///  - POSITION: position in millimetres and a quaternion (x, y, z, w), normalised on receipt.
+///  - TRANSFORM (48-byte body): a 4×4 homogeneous matrix; rotation part orthonormal (within
+///    1e-3), translation in **millimetres** (the OpenIGTLink / PLUS / Slicer convention),
+///    converted to metres.
+///  - POSITION (28-byte body): position in millimetres and the full quaternion (x, y, z, w),
+///    normalised on receipt (position-only and 3-element-quaternion bodies are malformed).
 ///  - Anything else, a body whose CRC or size is wrong, NaN/inf values, a non-orthonormal
 ///    rotation, a zero quaternion: dropped and counted (`DeviceCounters::malformed`); the
 ///    connection stays up. A header announcing a body over 1 MiB is garbage: counted, and the
 ///    connection is closed (the client may reconnect).
+///  Protocol version 1 (what libopenigtlink 1.11 speaks): a version-2 message's body holds an
+///  extended header and metadata, has another size, and is dropped as malformed.
 /// Message out: after each accepted pose, a SENSOR message named `device_name` with 3 values,
 /// the force (N) last given to write(), in the device frame, unit newton.
-/// Status: disconnected without a client; stale when no pose came for `stale_after_s`.
+/// Status: disconnected without a client; stale when no pose came for `stale_after_s`, or the
+/// current client has sent none yet (read() then gives the previous client's last pose).
 #include <atomic>
 #include <string>
 #include <thread>
@@ -55,6 +60,7 @@ class OpenIgtLinkDevice final : public Device {
   Seqlock<DeviceInput> sample_;
   Seqlock<DeviceOutput> force_;
   std::atomic<bool> connected_{false};
+  std::atomic<std::uint64_t> connect_sequence_{0};  // samples before the current client came
   std::atomic<bool> stop_{false};
   std::atomic<std::uint64_t> samples_{0}, malformed_{0}, connections_{0}, forces_sent_{0};
   int bound_port_ = 0;
