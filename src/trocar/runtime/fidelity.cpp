@@ -53,7 +53,7 @@ std::string read_text(const std::filesystem::path& p) {
 /// instruments follow their motion).
 std::vector<Vec3> lockstep_reference(const std::string& text, const std::filesystem::path& dir, double rate_hz,
                                      const std::vector<Pose>& poses, const std::vector<Real>& jaws,
-                                     double& device_max_force) {
+                                     double& device_max_force, std::vector<Vec3>* physics_forces = nullptr) {
   Scene scene = parse_scene(text, "fidelity reference", dir);
   scene.settings.measure_penetration = false;
   const std::vector<DeviceSpec> specs = scene.devices;
@@ -79,8 +79,21 @@ std::vector<Vec3> lockstep_reference(const std::string& text, const std::filesys
     const ContactModelSet& m = stepper.step(commands, period, 0, record);
     channel.actuate(m.instruments[0], m.step, 0, period, tick);
     forces.push_back(channel.force());
+    if (physics_forces) physics_forces->push_back(m.instruments[0].force0);  // low-passed, as rendered
   }
   return forces;
+}
+
+// RMS of the difference of two physics force series (low-passed as the models carry them, each
+// clamped to the peak as the devices are), relative to the peak: how far the two runs'
+// simulations themselves went apart.
+double physics_divergence(const std::vector<Vec3>& a, const std::vector<Vec3>& b, double peak) {
+  const std::size_t n = std::min(a.size(), b.size());
+  if (n == 0 || !(peak > 0)) return 0;
+  const auto clamp = [peak](Vec3 f) { return f.norm() > peak ? Vec3(f * (peak / f.norm())) : f; };
+  double sum = 0;
+  for (std::size_t k = 0; k < n; ++k) sum += (clamp(a[k]) - clamp(b[k])).squaredNorm();
+  return std::sqrt(sum / double(n)) / peak;
 }
 
 }  // namespace
@@ -199,6 +212,16 @@ FidelityResult measure_multirate(const std::filesystem::path& scene_file, double
   std::vector<Real> jaws;
   std::vector<std::uint8_t> arrivals;
   std::uint64_t last_model = 0;
+  std::vector<Vec3> step_force(rec.steps.size() + 1, Vec3::Zero());  // by step index
+  {  // the steps' forces through the physics stepper's low-pass, as its models carry them
+    const Real a = rec.header.timestep / (PhysicsStepper::kForceFilter + rec.header.timestep);
+    Vec3 filtered = Vec3::Zero();
+    for (const StepRecord& st : rec.steps) {
+      filtered += a * (Vec3(st.instrument[0].force[0], st.instrument[0].force[1], st.instrument[0].force[2]) - filtered);
+      if (st.step < step_force.size()) step_force[st.step] = filtered;
+    }
+  }
+  std::vector<Vec3> physics;  // the force of the step whose model each tick rendered
   for (const TickRecord& t : rec.ticks) {
     const TickInstrument& ti = t.instrument[0];
     rendered.emplace_back(ti.force[0], ti.force[1], ti.force[2]);
@@ -206,11 +229,14 @@ FidelityResult measure_multirate(const std::filesystem::path& scene_file, double
     jaws.push_back(ti.jaw);
     arrivals.push_back(ti.model_step != last_model ? 1 : 0);
     last_model = ti.model_step;
+    physics.push_back(ti.model_step < step_force.size() ? step_force[ti.model_step] : Vec3::Zero());
   }
   double device_max = 0;
+  std::vector<Vec3> reference_physics;
   const std::vector<Vec3> reference =
-      lockstep_reference(text, scene_file.parent_path(), rate_hz, poses, jaws, device_max);
+      lockstep_reference(text, scene_file.parent_path(), rate_hz, poses, jaws, device_max, &reference_physics);
   FidelityResult r = compare_forces(rendered, reference, arrivals, device_max);
+  r.physics_rms_fraction = physics_divergence(physics, reference_physics, r.peak_force);
   const double wall = rec.ticks.empty() ? 0 : double(rec.ticks.back().time_ns) * 1e-9;
   r.physics_rate_hz = wall > 0 ? double(rec.steps.size()) / wall : 0;
   return r;

@@ -22,6 +22,11 @@ struct FidelityResult {
   double reference_max_jump = 0;       ///< the same of the lock-step reference (N): physics' own jumps
   double device_max_force = 0;         ///< the device's maximum (N)
   double physics_rate_hz = 0;          ///< physics steps per second of the multirate run
+  /// Threads only: RMS difference of the two runs' *physics* forces (the step each tick's model
+  /// came from vs the reference's step), relative to the peak: how far the simulations
+  /// themselves went apart (the multirate physics samples the device at its own instants; after
+  /// a slip the two diverge). 0 for the emulation, whose physics inputs are the reference's.
+  double physics_rms_fraction = 0;
   std::uint64_t model_arrivals = 0;    ///< ticks at which a new model arrived
 };
 

@@ -23,7 +23,7 @@ struct DeviceMapping {
 
 /// How the haptic tick treats the models physics hands over.
 struct ModelHandover {
-  int blend_ticks = 4;          ///< a new model is blended in linearly over this many ticks (1 = at once)
+  int blend_ticks = 8;          ///< a new model is blended in linearly over this many ticks (1 = at once)
   Real stale_after = 0.010;     ///< s: a model older than this starts fading the force …
   Real fade_time = 0.005;       ///< s: … to zero over this long
 };

@@ -36,7 +36,8 @@ class PhysicsStepper {
   /// enters the model (0 = none). The sdf constraint's force is an impulse per step (−Σ m Δx/dt²):
   /// its mean is the contact force, but step to step it swings by the tissue vertices' inertia,
   /// and a proxy that followed those swings would feed them back into the next step.
-  PhysicsStepper(Simulation& sim, Real stiffness_prior, Real force_filter = 0.005);
+  PhysicsStepper(Simulation& sim, Real stiffness_prior, Real force_filter = kForceFilter);
+  static constexpr Real kForceFilter = 0.005;  ///< s, the default low-pass time constant
   /// One step of dt seconds with `commands`; `now_ns` (steady clock) stamps the models. Fills
   /// `record` with what replay needs and the module timings. No allocation after the first.
   const ContactModelSet& step(const InstrumentCommandSet& commands, Real dt, std::int64_t now_ns, StepRecord& record);
