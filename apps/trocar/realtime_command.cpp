@@ -6,7 +6,6 @@
 #include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
-#include <sstream>
 
 #include "trocar/core/error.h"
 #include "trocar/runtime/fidelity.h"
@@ -24,13 +23,6 @@ nlohmann::json histogram_json(const TimingHistogram& h) {
   return {{"median", h.median()}, {"p99", h.p99()}, {"max", h.max()}, {"mean", h.mean()}, {"count", h.count()}};
 }
 
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  if (!in) throw Error(p.string() + ": cannot open the scene file");
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 }  // namespace
 
@@ -56,22 +48,11 @@ void run_realtime(const RealtimeOptions& o) {
   std::vector<RuntimeChannel> channels = make_channels(devices, sim.world());
   std::unique_ptr<RecordingWriter> recorder;
   if (!o.record.empty()) {
-    RecordingHeader h;
-    h.instruments = static_cast<std::uint32_t>(sim.world().instruments.size());
-    h.haptic_rate_hz = o.rate_hz;
-    h.timestep = o.lockstep ? 1.0 / o.rate_hz : scene.timestep;
-    h.mode = o.lockstep ? 1 : 0;
-    h.scene_path = fs::absolute(o.scene).lexically_normal().string();
-    h.scene_text = read_text(o.scene);
-    recorder = std::make_unique<RecordingWriter>(o.record, h);
+    recorder = std::make_unique<RecordingWriter>(o.record, session_header(o.scene, read_scene_text(o.scene), sim, settings));
   }
   Runtime runtime(sim, std::move(channels), settings, recorder.get());
   const RuntimeReport r = runtime.run();
-  if (recorder) {
-    EndRecord end;
-    end.state_hash = sim.state_hash();
-    recorder->finish(end);
-  }
+  if (recorder) finish_recording(*recorder, sim);
   for (const std::string& w : r.warnings) std::cerr << "trocar: warning: " << w << "\n";
 
   const PhysicsTimings& p = r.physics;
@@ -262,7 +243,7 @@ void add_multirate_command(CLI::App& study) {
     for (const std::string& scene : o->scenes) {
       const std::string stem = fs::path(scene).stem().string();
       if (o->emulate) {
-        const std::string text = read_text(scene);
+        const std::string text = read_scene_text(scene);
         EmulationOptions e;
         e.rate_hz = o->rate_hz;
         e.duration = o->duration;

@@ -11,19 +11,7 @@
 #include <thread>
 #include <vector>
 
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wshadow"
-#pragma GCC diagnostic ignored "-Wconversion"
-#pragma GCC diagnostic ignored "-Wunused-parameter"
-#include <igtlClientSocket.h>
-#include <igtlMessageHeader.h>
-#include <igtlPositionMessage.h>
-#include <igtlSensorMessage.h>
-#include <igtlStringMessage.h>
-#include <igtlTransformMessage.h>
-#include <igtl_header.h>
-#include <igtl_util.h>
-#pragma GCC diagnostic pop
+#include "support/igtl_client.h"
 
 #include "trocar/core/error.h"
 #include "trocar/device/openigtlink_device.h"

@@ -30,22 +30,14 @@ TEST(Bimanual, TwoDevicesEachFeelTheirOwnSide) {
   Simulation sim(std::move(scene.world), scene.settings);
   const std::filesystem::path file =
       std::filesystem::temp_directory_path() / ("trocar_bimanual_" + std::to_string(::getpid()) + ".trec");
-  RecordingHeader h;
-  h.instruments = 2;
-  h.haptic_rate_hz = 1000;
-  h.mode = 1;
-  h.scene_path = (std::filesystem::current_path() / "two-probes.json").string();
-  h.scene_text = kTwoProbes;
-  RecordingWriter writer(file, h);
   RuntimeSettings settings;
   settings.lockstep = true;
   settings.duration = 0.5;
   settings.realtime_scheduling = false;
+  RecordingWriter writer(file, session_header("two-probes.json", kTwoProbes, sim, settings));
   Runtime runtime(sim, make_channels(devices, sim.world()), settings, &writer);
   const RuntimeReport report = runtime.run();
-  EndRecord end;
-  end.state_hash = sim.state_hash();
-  writer.finish(end);
+  finish_recording(writer, sim);
   ASSERT_EQ(report.devices.size(), 2u);
   const Recording rec = read_recording(file, true);
   double left_x = 0, right_x = 0;  // the most negative / positive force along x each felt (N)

@@ -11,15 +11,7 @@
 #include <filesystem>
 #include <thread>
 
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wshadow"
-#pragma GCC diagnostic ignored "-Wconversion"
-#pragma GCC diagnostic ignored "-Wunused-parameter"
-#include <igtlClientSocket.h>
-#include <igtlMessageHeader.h>
-#include <igtlSensorMessage.h>
-#include <igtlTransformMessage.h>
-#pragma GCC diagnostic pop
+#include "support/igtl_client.h"
 
 #include "trocar/device/openigtlink_device.h"
 #include "trocar/runtime/runtime.h"

@@ -138,25 +138,16 @@ TEST(Recording, NotARecordingIsAnErrorAtByteZero) {
 // A real-time session of the shipped press scene, then its replay in lock-step.
 void record_and_replay(bool lockstep) {
   const fs::path scene_file = fs::path(TROCAR_TEST_SCENES) / "probe_press_slide.json";
-  std::ifstream in(scene_file);
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   Scene scene = load_scene(scene_file);
   scene.settings.measure_penetration = false;
   const std::vector<DeviceSpec> devices = scene.devices;
   Simulation sim(std::move(scene.world), scene.settings);
   const fs::path f = temp_file(lockstep ? "lockstep.trec" : "multirate.trec");
-  RecordingHeader h;
-  h.instruments = 1;
-  h.haptic_rate_hz = 1000;
-  h.timestep = 1e-3;
-  h.mode = lockstep ? 1 : 0;
-  h.scene_path = fs::absolute(scene_file).string();
-  h.scene_text = text;
-  RecordingWriter writer(f, h);
   RuntimeSettings settings;
   settings.lockstep = lockstep;
   settings.duration = 0.8;
   settings.realtime_scheduling = false;
+  RecordingWriter writer(f, session_header(scene_file, read_scene_text(scene_file), sim, settings));
   // The probe starts just above the lobe (its top is near z = 33 mm) and presses 13 mm in 0.3 s,
   // so even a loaded machine that skips haptic slots steps well into contact.
   std::vector<RuntimeChannel> channels = make_channels(devices, sim.world());
@@ -167,9 +158,7 @@ void record_and_replay(bool lockstep) {
   channels[0].device = std::make_unique<ScriptedDevice>(KeyframeMotion({start, pressed}));
   Runtime runtime(sim, std::move(channels), settings, &writer);
   const RuntimeReport report = runtime.run();
-  EndRecord end;
-  end.state_hash = sim.state_hash();
-  writer.finish(end);
+  finish_recording(writer, sim);
   EXPECT_GT(report.physics_steps, 100u);
   EXPECT_EQ(report.recording_dropped, 0u);
   const ReplayResult r = replay_recording(f);

@@ -100,6 +100,38 @@ Io skip_exact(igtl::ClientSocket* s, std::uint64_t n, const std::atomic<bool>& s
 
 bool orthonormal(const Mat3& r) { return (r * r.transpose() - Mat3::Identity()).cwiseAbs().maxCoeff() < 1e-3; }
 
+// An unpacked TRANSFORM as a pose (mm → m); false for non-finite values or a rotation that is
+// not orthonormal.
+bool transform_pose(igtl::TransformMessage& m, Pose& pose) {
+  igtl::Matrix4x4 t;
+  m.GetMatrix(t);
+  Mat3 r;
+  Vec3 p;
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) r(i, j) = t[i][j];
+    p[i] = t[i][3] * 1e-3;
+  }
+  if (!r.allFinite() || !p.allFinite() || !orthonormal(r)) return false;
+  pose.rotation = Quat(r).normalized();
+  pose.translation = p;
+  return true;
+}
+
+// An unpacked POSITION as a pose (mm → m, quaternion x, y, z, w normalised); false for
+// non-finite values or a (near) zero quaternion.
+bool position_pose(igtl::PositionMessage& m, Pose& pose) {
+  float pos[3], q[4];
+  m.GetPosition(pos);
+  m.GetQuaternion(q);
+  const Vec3 p(pos[0] * 1e-3, pos[1] * 1e-3, pos[2] * 1e-3);
+  const Quat quat(q[3], q[0], q[1], q[2]);
+  const double norm = quat.norm();
+  if (!p.allFinite() || !std::isfinite(norm) || !(norm > 1e-6)) return false;
+  pose.rotation = quat.normalized();
+  pose.translation = p;
+  return true;
+}
+
 }  // namespace
 
 OpenIgtLinkDevice::OpenIgtLinkDevice(const OpenIgtLinkSettings& settings) : settings_(settings) {
@@ -140,6 +172,8 @@ void OpenIgtLinkDevice::close() {
 
 void OpenIgtLinkDevice::serve() {
   igtl::MessageHeader::Pointer header = igtl::MessageHeader::New();
+  igtl::TransformMessage::Pointer transform = igtl::TransformMessage::New();  // reused per message
+  igtl::PositionMessage::Pointer position = igtl::PositionMessage::New();
   igtl::SensorMessage::Pointer sensor = igtl::SensorMessage::New();
   igtl::Unit::Pointer newton = igtl::Unit::New();
   newton->SetPrefix(igtl::Unit::SI_PREFIX_NONE);
@@ -188,60 +222,19 @@ void OpenIgtLinkDevice::serve() {
       if (b == Io::kClosed) drop_client();
       continue;
     }
-    bool accepted = false;
-    Pose pose;
-    const auto read_body = [&](igtl::MessageBase* m) -> Io {
-      m->SetMessageHeader(header);
-      m->AllocatePack();
-      return receive_exact(client, m->GetPackBodyPointer(), m->GetPackBodySize(), stop_);
-    };
-    if (type == "TRANSFORM") {
-      igtl::TransformMessage::Pointer m = igtl::TransformMessage::New();
-      const Io b = read_body(m);
-      if (b == Io::kStopped) break;
-      if (b == Io::kClosed) {
-        drop_client();
-        continue;
-      }
-      if (m->Unpack(1) & igtl::MessageHeader::UNPACK_BODY) {
-        igtl::Matrix4x4 t;
-        m->GetMatrix(t);
-        Mat3 r;
-        Vec3 p;
-        bool finite = true;
-        for (int i = 0; i < 3; ++i) {
-          for (int j = 0; j < 3; ++j) r(i, j) = t[i][j];
-          p[i] = t[i][3] * 1e-3;  // mm → m
-        }
-        finite = r.allFinite() && p.allFinite();
-        if (finite && orthonormal(r)) {
-          pose.rotation = Quat(r).normalized();
-          pose.translation = p;
-          accepted = true;
-        }
-      }
-    } else {  // POSITION
-      igtl::PositionMessage::Pointer m = igtl::PositionMessage::New();
-      const Io b = read_body(m);
-      if (b == Io::kStopped) break;
-      if (b == Io::kClosed) {
-        drop_client();
-        continue;
-      }
-      if (m->Unpack(1) & igtl::MessageHeader::UNPACK_BODY) {
-        float pos[3], q[4];
-        m->GetPosition(pos);
-        m->GetQuaternion(q);
-        const Vec3 p(pos[0] * 1e-3, pos[1] * 1e-3, pos[2] * 1e-3);
-        const Quat quat(q[3], q[0], q[1], q[2]);
-        const double norm = quat.norm();
-        if (p.allFinite() && std::isfinite(norm) && norm > 1e-6) {
-          pose.rotation = quat.normalized();
-          pose.translation = p;
-          accepted = true;
-        }
-      }
+    const bool is_transform = type == "TRANSFORM";
+    igtl::MessageBase* m = is_transform ? static_cast<igtl::MessageBase*>(transform) : position;
+    m->SetMessageHeader(header);
+    m->AllocatePack();
+    const Io b = receive_exact(client, m->GetPackBodyPointer(), m->GetPackBodySize(), stop_);
+    if (b == Io::kStopped) break;
+    if (b == Io::kClosed) {
+      drop_client();
+      continue;
     }
+    Pose pose;
+    const bool accepted = (m->Unpack(1) & igtl::MessageHeader::UNPACK_BODY) &&
+                          (is_transform ? transform_pose(*transform, pose) : position_pose(*position, pose));
     if (!accepted) {
       malformed_.fetch_add(1);
       continue;

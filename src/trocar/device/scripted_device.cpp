@@ -24,10 +24,7 @@ DeviceStatus ScriptedDevice::read(double now_s, DeviceInput& input) {
   return DeviceStatus::kConnected;
 }
 
-void ScriptedDevice::write(const DeviceOutput& output) {
-  last_output_ = output;
-  forces_.fetch_add(1, std::memory_order_relaxed);
-}
+void ScriptedDevice::write(const DeviceOutput& /*output*/) { forces_.fetch_add(1, std::memory_order_relaxed); }
 
 DeviceCounters ScriptedDevice::counters() const {
   DeviceCounters c;

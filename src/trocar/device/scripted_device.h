@@ -1,7 +1,6 @@
 #pragma once
 /// The `scripted` driver: a scene's keyframes played at the runtime's clock, as if a trainee's
-/// hand followed them (the device side of today's `motion`). The forces it is sent are kept, so
-/// a test or a study can read what the haptic loop rendered.
+/// hand followed them (the device side of today's `motion`). Forces sent to it are counted.
 #include <atomic>
 
 #include "trocar/device/device.h"
@@ -21,13 +20,10 @@ class ScriptedDevice final : public Device {
   void write(const DeviceOutput& output) override;
   const DeviceSpecs& specs() const override { return specs_; }
   DeviceCounters counters() const override;
-  /// The last force written (N; read from the writing thread or after it stopped).
-  const DeviceOutput& last_output() const { return last_output_; }
 
  private:
   KeyframeMotion motion_;
   DeviceSpecs specs_;
-  DeviceOutput last_output_;
   std::atomic<std::uint64_t> samples_{0};
   std::atomic<std::uint64_t> forces_{0};
 };

@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
-#include <fstream>
-#include <sstream>
 
 #include "trocar/core/error.h"
 #include "trocar/device/scripted_device.h"
@@ -40,14 +38,6 @@ class FeedDevice final : public Device {
   DeviceInput input_;
   bool connected_ = true;
 };
-
-std::string read_text(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  if (!in) throw Error(p.string() + ": cannot open the scene file");
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 /// The lock-step reference on a sequence of device poses (world, instrument 0; other
 /// instruments follow their motion).
@@ -140,7 +130,7 @@ FidelityResult emulate_multirate(const std::string& text, const std::filesystem:
     haptic.emplace_back(*c.device, c.mapping, c.coupling, c.shaping, handover);
   }
   const auto ticks = static_cast<std::size_t>(std::llround(o.duration * o.rate_hz));
-  std::deque<ContactModelSet> in_flight;  // models on their way to the haptic loop
+  std::deque<std::pair<std::size_t, ContactModelSet>> in_flight;  // (due tick, model) on their way
   ContactModelSet visible;
   InstrumentCommandSet commands;
   StepRecord record;
@@ -149,15 +139,13 @@ FidelityResult emulate_multirate(const std::string& text, const std::filesystem:
   std::vector<Pose> poses;
   std::vector<Real> jaws;
   std::vector<std::uint8_t> arrivals;
-  std::vector<std::size_t> due;
   for (std::size_t k = 0; k < ticks; ++k) {
     const double now = double(k) * period;
     for (HapticChannel& h : haptic) h.sense(now);
     bool arrived = false;
-    while (!due.empty() && due.front() <= k) {
-      visible = in_flight.front();
+    while (!in_flight.empty() && in_flight.front().first <= k) {
+      visible = in_flight.front().second;
       in_flight.pop_front();
-      due.erase(due.begin());
       arrived = true;
     }
     for (std::size_t i = 0; i < haptic.size(); ++i)
@@ -169,8 +157,8 @@ FidelityResult emulate_multirate(const std::string& text, const std::filesystem:
     arrivals.push_back(arrived ? 1 : 0);
     if (k % static_cast<std::size_t>(o.physics_every) == 0) {
       for (std::size_t i = 0; i < haptic.size(); ++i) commands.instruments[i] = haptic[i].command();
-      in_flight.push_back(stepper.step(commands, period * o.physics_every, 0, record));
-      due.push_back(k + static_cast<std::size_t>(std::max(1, o.latency_ticks)));
+      const ContactModelSet& m = stepper.step(commands, period * o.physics_every, 0, record);
+      in_flight.emplace_back(k + static_cast<std::size_t>(std::max(1, o.latency_ticks)), m);
     }
   }
   double device_max = 0;
@@ -182,7 +170,7 @@ FidelityResult emulate_multirate(const std::string& text, const std::filesystem:
 
 FidelityResult measure_multirate(const std::filesystem::path& scene_file, double duration, double rate_hz,
                                  const std::filesystem::path& recording) {
-  const std::string text = read_text(scene_file);
+  const std::string text = read_scene_text(scene_file);
   {
     Scene scene = parse_scene(text, scene_file.string(), scene_file.parent_path());
     scene.settings.measure_penetration = false;
@@ -193,18 +181,10 @@ FidelityResult measure_multirate(const std::filesystem::path& scene_file, double
     settings.haptic_rate_hz = rate_hz;
     settings.duration = duration;
     settings.physics_timestep = timestep;
-    RecordingHeader h;
-    h.instruments = static_cast<std::uint32_t>(sim.world().instruments.size());
-    h.haptic_rate_hz = rate_hz;
-    h.timestep = timestep;
-    h.scene_path = std::filesystem::absolute(scene_file).string();
-    h.scene_text = text;
-    RecordingWriter writer(recording, h);
+    RecordingWriter writer(recording, session_header(scene_file, text, sim, settings));
     Runtime runtime(sim, make_channels(specs, sim.world()), settings, &writer);
     runtime.run();
-    EndRecord end;
-    end.state_hash = sim.state_hash();
-    writer.finish(end);
+    finish_recording(writer, sim);
   }
   const Recording rec = read_recording(recording, true);
   std::vector<Vec3> rendered;

@@ -49,9 +49,7 @@ class HapticChannel {
                TickInstrument& record);
 
   const InstrumentCommand& command() const { return command_; }  ///< after actuate()
-  DeviceStatus status() const { return status_; }                ///< after sense()
   const Vec3& force() const { return force_; }                   ///< sent last tick (N, world)
-  Device& device() { return device_; }                           ///< the driver
   std::uint64_t disconnects() const { return disconnects_; }     ///< connected → not, so far
 
  private:

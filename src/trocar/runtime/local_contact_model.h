@@ -36,7 +36,6 @@ struct ContactModelSet {
   std::array<LocalContactModel, kMaxRuntimeInstruments> instruments{};  ///< by instrument index
   std::uint64_t step = 0;          ///< physics steps done (0 = none yet)
   std::int64_t timestamp_ns = 0;   ///< steady-clock time the step ended (ns)
-  Real sim_time = 0;               ///< simulated time at the end of the step (s)
 };
 
 /// Estimates k along the normal from consecutive steps (a secant of the force–position curve,

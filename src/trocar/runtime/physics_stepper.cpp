@@ -51,7 +51,6 @@ const ContactModelSet& PhysicsStepper::step(const InstrumentCommandSet& commands
   }
   models_.step = m.step_index;
   models_.timestamp_ns = now_ns;
-  models_.sim_time = m.time;
   const double model_us = model_timer.microseconds();
 
   record.step = m.step_index;

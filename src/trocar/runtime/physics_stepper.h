@@ -44,7 +44,6 @@ class PhysicsStepper {
 
   const ContactModelSet& models() const { return models_; }  ///< after the last step
   const PhysicsTimings& timings() const { return timings_; }  ///< so far
-  Simulation& simulation() { return sim_; }                    ///< the simulation
 
  private:
   Simulation& sim_;

@@ -54,6 +54,4 @@ DeviceCounters ReplayDevice::counters() const {
   return c;
 }
 
-double ReplayDevice::duration() const { return samples_.back().t - samples_.front().t; }
-
 }  // namespace trocar

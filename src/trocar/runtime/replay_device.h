@@ -26,7 +26,6 @@ class ReplayDevice final : public Device {
   void write(const DeviceOutput& output) override;
   const DeviceSpecs& specs() const override { return specs_; }
   DeviceCounters counters() const override;
-  double duration() const;  ///< s covered by the recorded ticks
 
  private:
   struct Sample {

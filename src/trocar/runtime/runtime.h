@@ -78,8 +78,6 @@ class Runtime {
 
   /// Opens the devices, runs for settings.duration of wall-clock time, joins, closes them.
   RuntimeReport run();
-  /// The channels (for tests and studies reading what was rendered).
-  std::vector<RuntimeChannel>& channels() { return channels_; }
 
  private:
   void haptic_thread();

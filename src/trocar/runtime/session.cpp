@@ -64,6 +64,24 @@ std::vector<RuntimeChannel> make_channels(const std::vector<DeviceSpec>& devices
   return channels;
 }
 
+RecordingHeader session_header(const std::filesystem::path& scene_file, std::string scene_text,
+                               const Simulation& sim, const RuntimeSettings& settings) {
+  RecordingHeader h;
+  h.instruments = static_cast<std::uint32_t>(sim.world().instruments.size());
+  h.haptic_rate_hz = settings.haptic_rate_hz;
+  h.timestep = settings.lockstep ? 1.0 / settings.haptic_rate_hz : settings.physics_timestep;
+  h.mode = settings.lockstep ? 1 : 0;
+  h.scene_path = std::filesystem::absolute(scene_file).lexically_normal().string();
+  h.scene_text = std::move(scene_text);
+  return h;
+}
+
+void finish_recording(RecordingWriter& writer, const Simulation& sim) {
+  EndRecord end;
+  end.state_hash = sim.state_hash();
+  writer.finish(end);
+}
+
 ReplayResult replay_recording(const std::filesystem::path& file) {
   const Recording rec = read_recording(file, true);
   const std::filesystem::path scene_path(rec.header.scene_path);

@@ -14,6 +14,15 @@ namespace trocar {
 /// Throws trocar::Error naming the scene key for a driver this build lacks.
 std::vector<RuntimeChannel> make_channels(const std::vector<DeviceSpec>& devices, const World& world);
 
+/// The header of a recording of `sim` run on the runtime with `settings`, from the scene file
+/// `scene_file` whose text was `scene_text` (the step records carry their own dt; the header's
+/// timestep is the session's nominal one).
+RecordingHeader session_header(const std::filesystem::path& scene_file, std::string scene_text,
+                               const Simulation& sim, const RuntimeSettings& settings);
+
+/// Ends a recording with the simulation's state hash after its last step.
+void finish_recording(RecordingWriter& writer, const Simulation& sim);
+
 /// What a replay found.
 struct ReplayResult {
   std::uint64_t steps = 0;            ///< steps replayed

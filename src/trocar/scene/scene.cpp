@@ -293,12 +293,16 @@ Scene parse_scene(std::string_view text, const std::string& file, const std::fil
   return scene;
 }
 
-Scene load_scene(const std::filesystem::path& file) {
+std::string read_scene_text(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);
   if (!in) throw Error(file.string() + ": cannot open the scene file");
   std::ostringstream text;
   text << in.rdbuf();
-  return parse_scene(text.str(), file.string(), file.parent_path());
+  return text.str();
+}
+
+Scene load_scene(const std::filesystem::path& file) {
+  return parse_scene(read_scene_text(file), file.string(), file.parent_path());
 }
 
 }  // namespace trocar

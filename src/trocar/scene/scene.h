@@ -33,6 +33,10 @@ struct Scene {
 /// relative to the scene file's folder.
 Scene load_scene(const std::filesystem::path& file);
 
+/// The scene file's text (what a session recording stores). Throws trocar::Error naming the
+/// file when it cannot be read.
+std::string read_scene_text(const std::filesystem::path& file);
+
 /// The same from text; `file` names it in errors, `dir` resolves relative mesh paths.
 Scene parse_scene(std::string_view text, const std::string& file, const std::filesystem::path& dir);
 
