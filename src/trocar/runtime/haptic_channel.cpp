@@ -26,8 +26,16 @@ HapticChannel::HapticChannel(Device& device, const DeviceMapping& mapping, const
                              const ForceShaping& shaping, const ModelHandover& handover)
     : device_(device), mapping_(mapping), coupling_(coupling), shaper_(shaping), handover_(handover) {}
 
-Vec3 HapticChannel::blended_force(const Vec3& x) const {
-  const Vec3 now = coupled_force(current_, coupling_.stiffness, x);
+Vec3 HapticChannel::model_force(const Vec3& x, const Vec3& v) const {
+  Vec3 f = coupled_force(current_, coupling_.stiffness, x);
+  // The coupling's damper, along the contact normal while in contact: resists the device's
+  // approach and withdrawal (B of the passivity bound).
+  if (f.squaredNorm() > 0) f -= coupling_.damping * current_.normal * current_.normal.dot(v);
+  return f;
+}
+
+Vec3 HapticChannel::blended_force(const Vec3& x, const Vec3& v) const {
+  const Vec3 now = model_force(x, v);
   if (blend_tick_ + 1 >= handover_.blend_ticks) return now;
   // The jump a new model would make is spread over blend_ticks ticks: the offset between the
   // force rendered just before the model arrived and the new model's there, decaying linearly.
@@ -59,21 +67,16 @@ void HapticChannel::actuate(const LocalContactModel& model, std::uint64_t model_
     current_ = model;
     model_step_ = model_step;
     blend_tick_ = 0;
-    force_offset_ = have_last_ ? Vec3(last_contact_force_ - coupled_force(current_, coupling_.stiffness, last_device_))
-                               : Vec3::Zero();
+    force_offset_ = have_last_ ? Vec3(last_contact_force_ - model_force(last_device_, last_velocity_)) : Vec3::Zero();
   }
   const bool live = status_ == DeviceStatus::kConnected && command_.active;
   if (live) {
     const Vec3& x = device_world_.translation;
-    const Vec3 contact = blended_force(x);
-    last_contact_force_ = contact;
+    Vec3 commanded = blended_force(x, device_velocity_);
+    last_contact_force_ = commanded;
     last_device_ = x;
+    last_velocity_ = device_velocity_;
     have_last_ = true;
-    Vec3 commanded = contact;
-    // The coupling's damper, along the contact normal while in contact: resists the device's
-    // approach and withdrawal (B of the passivity bound).
-    if (current_.in_contact && contact.squaredNorm() > 0)
-      commanded -= coupling_.damping * current_.normal * current_.normal.dot(device_velocity_);
     // A model older than stale_after fades out over fade_time (physics stalled).
     if (model_age_s > handover_.stale_after) {
       const double keep = handover_.fade_time > 0 ? 1 - (model_age_s - handover_.stale_after) / handover_.fade_time : 0;

@@ -53,8 +53,11 @@ class HapticChannel {
   std::uint64_t disconnects() const { return disconnects_; }     ///< connected → not, so far
 
  private:
-  /// The model's force at x with the jump of the last model change spread over blend_ticks.
-  Vec3 blended_force(const Vec3& device_position) const;
+  /// The current model's force at device position x and velocity v, with the coupling's damper.
+  Vec3 model_force(const Vec3& x, const Vec3& v) const;
+  /// model_force with the jump of the last model change spread over blend_ticks (the damper
+  /// switching on or off with the contact is spread too).
+  Vec3 blended_force(const Vec3& x, const Vec3& v) const;
 
   Device& device_;
   DeviceMapping mapping_;
@@ -68,6 +71,7 @@ class HapticChannel {
   LocalContactModel current_;         ///< newest model
   Vec3 force_offset_ = Vec3::Zero();  ///< rendered − new model's force when it arrived (N)
   Vec3 last_device_ = Vec3::Zero();   ///< device position of the last rendered tick (m)
+  Vec3 last_velocity_ = Vec3::Zero(); ///< device velocity of the last rendered tick (m/s)
   Vec3 last_contact_force_ = Vec3::Zero();  ///< contact force of the last rendered tick (N)
   bool have_last_ = false;            ///< last_* hold a rendered tick
   std::uint64_t model_step_ = 0;
