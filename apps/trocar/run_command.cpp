@@ -18,6 +18,9 @@
 #include "trocar/core/error.h"
 #include "trocar/scene/scene.h"
 #include "trocar/sim/simulation.h"
+#ifdef TROCAR_HAVE_RENDER
+#include "trocar/render/frame_recorder.h"
+#endif
 
 namespace trocar::cli {
 namespace {
@@ -35,7 +38,29 @@ struct Options {
   std::string report;
   std::string record;
   bool quiet = false;
+  std::string frames;     // --frames DIR
+  std::string video;      // --video FILE.mp4
+  double fps = 30;
+  std::string size = "1280x720";
+  std::string camera = "scope";
 };
+
+/// "WxH" → width, height (each 16…8192).
+void parse_size(const std::string& text, int& width, int& height) {
+  const auto x = text.find('x');
+  try {
+    if (x == std::string::npos) throw std::invalid_argument(text);
+    std::size_t used = 0;
+    width = std::stoi(text.substr(0, x), &used);
+    if (used != x) throw std::invalid_argument(text);
+    height = std::stoi(text.substr(x + 1), &used);
+    if (used != text.size() - x - 1) throw std::invalid_argument(text);
+  } catch (const std::logic_error&) {
+    throw Error("--size: \"" + text + "\" is not WIDTHxHEIGHT (e.g. 1280x720)");
+  }
+  if (width < 16 || height < 16 || width > 8192 || height > 8192)
+    throw Error("--size: " + text + ": each side must be 16 to 8192 pixels");
+}
 
 /// median, p99 and max of samples (0 for none).
 nlohmann::json summary(std::vector<double> v) {
@@ -97,6 +122,22 @@ void run(const Options& o) {
 
   Simulation sim(std::move(scene.world), scene.settings);
   const World& world = sim.world();
+#ifdef TROCAR_HAVE_RENDER
+  std::unique_ptr<FrameRecorder> frames;
+  if (!o.frames.empty() || !o.video.empty()) {
+    FrameSettings fs_settings;
+    fs_settings.dir = !o.frames.empty() ? fs::path(o.frames) : fs::path(o.video + ".frames");
+    fs_settings.fps = o.fps;
+    parse_size(o.size, fs_settings.width, fs_settings.height);
+    fs_settings.camera = select_camera(scene.cameras, world, o.camera);
+    frames = std::make_unique<FrameRecorder>(world, fs_settings);
+    frames->on_step(sim);  // frame 0: the scene at rest
+  }
+#else
+  if (!o.frames.empty() || !o.video.empty())
+    throw Error("--frames/--video: this trocar was built without the renderer (install libepoxy-dev and libpng-dev, "
+                "rebuild)");
+#endif
 
   std::unique_ptr<std::ofstream> record;
   const fs::path record_tmp = o.record.empty() ? fs::path() : fs::path(o.record + ".tmp");
@@ -151,6 +192,9 @@ void run(const Options& o) {
               << "," << m.elastic_energy << "," << t.motion << "," << t.broad_phase << "," << t.narrow_phase << ","
               << t.response << "," << t.deformation << "," << t.metrics << "," << t.step << "\n";
     }
+#ifdef TROCAR_HAVE_RENDER
+    if (frames) frames->on_step(sim);
+#endif
     progress.update(done + 1, m.time);
     if (!m.finite || m.max_speed > kUnstableSpeed) {
       stable = false;
@@ -194,6 +238,20 @@ void run(const Options& o) {
     record->close();
     fs::rename(record_tmp, o.record);
   }
+#ifdef TROCAR_HAVE_RENDER
+  if (frames) {
+    report["frames"] = {{"count", frames->frames()}, {"fps", o.fps}, {"size", o.size},
+                        {"mean_frame_ms", frames->mean_frame_ms()}, {"renderer", frames->renderer_description()}};
+    if (!o.quiet)
+      std::printf("frames: %zu PNGs in %s (%.1f ms each, %s)\n", frames->frames(), frames->frame_path(0).parent_path().c_str(),
+                  frames->mean_frame_ms(), frames->renderer_description().c_str());
+    if (!o.video.empty()) {
+      const std::string why = encode_video(frames->frame_path(0).parent_path(), o.fps, o.video);
+      if (!why.empty()) throw Error("--video: " + why);
+      if (!o.quiet) std::printf("video: %s\n", o.video.c_str());
+    }
+  }
+#endif
   if (!o.report.empty()) write_atomically(o.report, report.dump(2) + "\n");
   if (!o.quiet)
     std::printf("%s: %zu steps, %.3f s simulated in %.3f s; step median %.1f us; %s; hash %s\n", scene.name.c_str(),
@@ -213,6 +271,12 @@ void add_run_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--report", options->report, "Write the run report (JSON) to this file");
   cmd->add_option("--record", options->record, "Write a per-step CSV to this file");
   cmd->add_flag("--quiet,-q", options->quiet, "Print nothing but errors");
+  cmd->add_option("--frames", options->frames, "Render PNG frames headless (EGL) into this folder");
+  cmd->add_option("--video", options->video, "Encode the frames into this MP4 with ffmpeg (frames in FILE.frames/ "
+                                             "unless --frames names a folder)");
+  cmd->add_option("--fps", options->fps, "Frames per simulated second (default 30)")->check(CLI::Range(0.001, 1000.0));
+  cmd->add_option("--size", options->size, "Frame size WIDTHxHEIGHT (default 1280x720)");
+  cmd->add_option("--camera", options->camera, "Camera: scope (the scene's first, default), orbit, or a scene camera's name");
   auto rt = std::make_shared<RealtimeOptions>();
   auto realtime = std::make_shared<bool>(false);
   cmd->add_flag("--realtime", *realtime,
@@ -234,6 +298,9 @@ void add_run_command(CLI::App& app, int& exit_code) {
       return;
     }
     if (rt->lockstep || rt->metrics) throw Error("--lockstep and --metrics go with --realtime");
+    if (options->frames.empty() && options->video.empty() &&
+        (options->camera != "scope" || options->size != "1280x720" || options->fps != 30))
+      throw Error("--camera, --size and --fps go with --frames or --video");
     run(*options);
     (void)exit_code;
   });

@@ -1,5 +1,6 @@
 #include "trocar/scene/scene.h"
 
+#include <cmath>
 #include <fstream>
 #include <limits>
 #include <sstream>
@@ -261,6 +262,62 @@ void read_response(const JsonReader& r, Scene& scene) {
   if (r.has("projection_rounds")) s.projection_rounds = static_cast<int>(r.at("projection_rounds").integer(1, 100));
 }
 
+CameraSpec read_camera(const JsonReader& c, std::size_t index) {
+  c.expect_keys({"name", "type", "port", "target", "insertion", "angle_deg", "roll_deg", "up", "fov_deg", "distance",
+                 "yaw_deg", "pitch_deg", "near", "far"});
+  CameraSpec s;
+  s.name = c.string_or("name", index == 0 ? "scope" : "camera" + std::to_string(index));
+  const std::string type = c.string_or("type", "laparoscope");
+  if (type == "laparoscope") s.kind = CameraKind::kLaparoscope;
+  else if (type == "orbit") s.kind = CameraKind::kOrbit;
+  else c.at("type").fail("unknown camera type \"" + type + "\" (known: laparoscope, orbit)");
+  s.target = c.vec3_or("target", s.target);
+  s.up = c.vec3_or("up", s.up);
+  if (s.up.norm() < 1e-12) c.at("up").fail("must not be zero");
+  s.up.normalize();
+  if (c.has("fov_deg")) {
+    s.fov_deg = c.at("fov_deg").number_above(0);
+    if (s.fov_deg >= 170) c.at("fov_deg").fail("must be < 170");
+  }
+  if (c.has("near")) s.near_clip = c.at("near").number_above(0);
+  if (c.has("far")) s.far_clip = c.at("far").number_above(s.near_clip);
+  if (s.kind == CameraKind::kLaparoscope) {
+    for (const char* key : {"distance", "yaw_deg", "pitch_deg"})
+      if (c.has(key)) c.at(key).fail("only an orbit camera has it");
+    s.port = c.at("port").vec3();
+    if ((s.target - s.port).norm() < 1e-9) c.at("target").fail("must differ from the port");
+    if (c.has("insertion")) s.insertion = c.at("insertion").number_at_least(0);
+    if (c.has("angle_deg")) {
+      s.angle_deg = c.at("angle_deg").number_at_least(0);
+      if (s.angle_deg > 90) c.at("angle_deg").fail("must be <= 90");
+    }
+    if (c.has("roll_deg")) s.roll_deg = c.at("roll_deg").number();
+  } else {
+    for (const char* key : {"port", "insertion", "angle_deg", "roll_deg"})
+      if (c.has(key)) c.at(key).fail("only a laparoscope has it");
+    if (c.has("distance")) s.distance = c.at("distance").number_above(0);
+    if (c.has("yaw_deg")) s.yaw_deg = c.at("yaw_deg").number();
+    if (c.has("pitch_deg")) {
+      s.pitch_deg = c.at("pitch_deg").number();
+      if (std::abs(s.pitch_deg) >= 90) c.at("pitch_deg").fail("must be in (-90, 90)");
+    }
+  }
+  return s;
+}
+
+void read_cameras(const JsonReader& c, Scene& scene) {
+  if (c.is_object()) {
+    scene.cameras.push_back(read_camera(c, 0));
+    return;
+  }
+  for (std::size_t i = 0; i < c.array_size(); ++i) {
+    scene.cameras.push_back(read_camera(c.at(i), i));
+    for (std::size_t j = 0; j < i; ++j)
+      if (scene.cameras[j].name == scene.cameras[i].name)
+        c.at(i).at("name").fail("camera name \"" + scene.cameras[i].name + "\" is used twice");
+  }
+}
+
 }  // namespace
 
 Scene parse_scene(std::string_view text, const std::string& file, const std::filesystem::path& dir) {
@@ -272,7 +329,7 @@ Scene parse_scene(std::string_view text, const std::string& file, const std::fil
   }
   const JsonReader root(doc, file);
   root.expect_keys({"schema", "name", "timestep", "duration", "gravity", "tissues", "instruments", "rigids",
-                    "collision", "response"});
+                    "collision", "response", "camera"});
   Scene scene;
   root.at("schema").integer(kSceneSchema, kSceneSchema);
   scene.name = root.string_or("name", std::filesystem::path(file).stem().string());
@@ -290,6 +347,7 @@ Scene parse_scene(std::string_view text, const std::string& file, const std::fil
   each("tissues", read_tissue);
   each("instruments", read_instrument);
   each("rigids", read_rigid);
+  if (root.has("camera")) read_cameras(root.at("camera"), scene);
   return scene;
 }
 

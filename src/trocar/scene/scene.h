@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "trocar/core/types.h"
+#include "trocar/scene/camera_spec.h"
 #include "trocar/scene/device_spec.h"
 #include "trocar/sim/simulation.h"
 #include "trocar/sim/world.h"
@@ -26,6 +27,8 @@ struct Scene {
   /// Per instrument (same index): its "device", for the real-time runtime (given = false when
   /// the scene has only "motion"; the runtime then plays the motion as a scripted device).
   std::vector<DeviceSpec> devices;
+  /// "camera": one object or a list of them (empty: the renderer frames the scene itself).
+  std::vector<CameraSpec> cameras;
 };
 
 /// Reads and validates a scene file. Every key is checked: an unknown key, a wrong type, a

@@ -1,0 +1,65 @@
+#pragma once
+/// Headless frames of an offline run (`trocar run SCENE --frames DIR [--fps] [--size] [--camera]
+/// [--video FILE.mp4]`): PNGs rendered through surfaceless EGL at fixed simulated-time intervals,
+/// then optionally encoded by ffmpeg.
+#include <cstddef>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "trocar/render/camera.h"
+#include "trocar/render/offscreen.h"
+#include "trocar/render/renderer.h"
+#include "trocar/sim/simulation.h"
+
+namespace trocar {
+
+/// The camera called `name`: one of the scene's, or "scope" (the scene's first camera, or
+/// default_camera when it has none), or "orbit". Throws trocar::Error listing the names known.
+CameraSpec select_camera(const std::vector<CameraSpec>& scene_cameras, const World& world, const std::string& name);
+
+/// What to render.
+struct FrameSettings {
+  std::filesystem::path dir;      ///< folder for frame_0000.png …
+  double fps = 30;                ///< frames per simulated second
+  int width = 1280;               ///< pixels
+  int height = 720;               ///< pixels
+  CameraSpec camera;              ///< from select_camera
+  RenderOptions options;          ///< overlays
+  int samples = 4;                ///< multisampling
+};
+
+/// Renders a Simulation's frames as it steps.
+class FrameRecorder {
+ public:
+  /// Creates the folder and the EGL context (throws trocar::Error naming what failed).
+  FrameRecorder(const World& world, const FrameSettings& settings);
+  ~FrameRecorder();
+  /// Renders every frame whose time (k / fps) the simulation has reached since the last call.
+  void on_step(const Simulation& sim);
+  /// Frames written so far.
+  std::size_t frames() const { return frames_; }
+  /// The path of frame k.
+  std::filesystem::path frame_path(std::size_t k) const;
+  /// The GL renderer in use ("llvmpipe …").
+  std::string renderer_description() const { return context_->description(); }
+  /// Mean wall-clock milliseconds per frame (render + read-back + PNG).
+  double mean_frame_ms() const { return frames_ ? total_ms_ / double(frames_) : 0; }
+
+ private:
+  FrameSettings settings_;
+  std::unique_ptr<OffscreenContext> context_;
+  std::unique_ptr<Renderer> renderer_;
+  CameraView view_;
+  ViewSnapshot snapshot_;
+  Image image_;
+  std::size_t frames_ = 0;
+  double total_ms_ = 0;
+};
+
+/// Encodes dir/frame_%04d.png at fps into an H.264 MP4 with ffmpeg. Returns "" on success, else
+/// why not (ffmpeg missing: a clear sentence; a failure: its exit status).
+std::string encode_video(const std::filesystem::path& dir, double fps, const std::filesystem::path& video);
+
+}  // namespace trocar

@@ -1,0 +1,360 @@
+#include "trocar/render/renderer.h"
+
+#include <epoxy/gl.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <unordered_set>
+
+#include <Eigen/Geometry>
+
+#include "trocar/core/error.h"
+#include "trocar/render/shaders.h"
+
+namespace trocar {
+namespace {
+
+GLuint compile(GLenum type, const char* source, const char* name) {
+  const GLuint s = glCreateShader(type);
+  glShaderSource(s, 1, &source, nullptr);
+  glCompileShader(s);
+  GLint ok = 0;
+  glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    char log[2048] = {};
+    glGetShaderInfoLog(s, sizeof log, nullptr, log);
+    glDeleteShader(s);
+    throw Error(std::string("render: shader ") + name + " does not compile: " + log);
+  }
+  return s;
+}
+
+GLuint link(const char* vertex, const char* fragment, const char* name) {
+  const GLuint vs = compile(GL_VERTEX_SHADER, vertex, name);
+  const GLuint fs = compile(GL_FRAGMENT_SHADER, fragment, name);
+  const GLuint p = glCreateProgram();
+  glAttachShader(p, vs);
+  glAttachShader(p, fs);
+  glLinkProgram(p);
+  glDeleteShader(vs);
+  glDeleteShader(fs);
+  GLint ok = 0;
+  glGetProgramiv(p, GL_LINK_STATUS, &ok);
+  if (!ok) {
+    char log[2048] = {};
+    glGetProgramInfoLog(p, sizeof log, nullptr, log);
+    glDeleteProgram(p);
+    throw Error(std::string("render: program ") + name + " does not link: " + log);
+  }
+  return p;
+}
+
+void to_floats(const std::vector<Vec3>& in, std::vector<float>& out) {
+  out.resize(3 * in.size());
+  for (std::size_t i = 0; i < in.size(); ++i)
+    for (int k = 0; k < 3; ++k) out[3 * i + k] = static_cast<float>(in[i][k]);
+}
+
+/// One indexed mesh on the GPU: positions and normals (dynamic for tissue), texture coordinates.
+struct GpuMesh {
+  GLuint vao = 0, positions = 0, normals = 0, texcoords = 0, indices = 0;
+  GLsizei index_count = 0;
+  std::vector<Triangle> triangles;
+  std::vector<Vec3> local_positions;  // instruments and rigids: fixed
+  std::vector<float> scratch_positions, scratch_normals;
+
+  void create(const std::vector<Vec3>& positions_m, const std::vector<Triangle>& tris, GLenum usage) {
+    triangles = tris;
+    glGenVertexArrays(1, &vao);
+    glBindVertexArray(vao);
+    const auto buffer = [&](GLuint& id, GLuint location, const std::vector<float>& data, GLenum use) {
+      glGenBuffers(1, &id);
+      glBindBuffer(GL_ARRAY_BUFFER, id);
+      glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(data.size() * sizeof(float)), data.data(), use);
+      glEnableVertexAttribArray(location);
+      glVertexAttribPointer(location, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+    };
+    to_floats(positions_m, scratch_positions);
+    vertex_normals(positions_m, tris, scratch_normals);
+    buffer(this->positions, 0, scratch_positions, usage);
+    buffer(normals, 1, scratch_normals, usage);
+    buffer(texcoords, 2, scratch_positions, GL_STATIC_DRAW);  // rest positions: the solid texture's domain
+    std::vector<std::uint32_t> idx(3 * tris.size());
+    for (std::size_t t = 0; t < tris.size(); ++t)
+      for (int k = 0; k < 3; ++k) idx[3 * t + k] = tris[t][k];
+    glGenBuffers(1, &indices);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, indices);
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(idx.size() * sizeof(std::uint32_t)), idx.data(), GL_STATIC_DRAW);
+    index_count = static_cast<GLsizei>(idx.size());
+    glBindVertexArray(0);
+  }
+  void update(const std::vector<Vec3>& positions_m) {
+    to_floats(positions_m, scratch_positions);
+    vertex_normals(positions_m, triangles, scratch_normals);
+    glBindBuffer(GL_ARRAY_BUFFER, positions);
+    glBufferSubData(GL_ARRAY_BUFFER, 0, GLsizeiptr(scratch_positions.size() * sizeof(float)), scratch_positions.data());
+    glBindBuffer(GL_ARRAY_BUFFER, normals);
+    glBufferSubData(GL_ARRAY_BUFFER, 0, GLsizeiptr(scratch_normals.size() * sizeof(float)), scratch_normals.data());
+  }
+  void draw() const {
+    glBindVertexArray(vao);
+    glDrawElements(GL_TRIANGLES, index_count, GL_UNSIGNED_INT, nullptr);
+  }
+  void destroy() {
+    const GLuint buffers[] = {positions, normals, texcoords, indices};
+    glDeleteBuffers(4, buffers);
+    glDeleteVertexArrays(1, &vao);
+  }
+};
+
+Eigen::Matrix4f pose_matrix(const Pose& pose) {
+  Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
+  m.block<3, 3>(0, 0) = pose.rotation_matrix();
+  m.block<3, 1>(0, 3) = pose.translation;
+  return m.cast<float>();
+}
+
+}  // namespace
+
+void vertex_normals(const std::vector<Vec3>& positions, const std::vector<Triangle>& triangles,
+                    std::vector<float>& normals_xyz) {
+  normals_xyz.assign(3 * positions.size(), 0.0f);
+  for (const Triangle& t : triangles) {
+    // The cross product's length is twice the area: summing it weights each face by area.
+    const Vec3 n = (positions[t[1]] - positions[t[0]]).cross(positions[t[2]] - positions[t[0]]);
+    for (std::uint32_t v : t)
+      for (int k = 0; k < 3; ++k) normals_xyz[3 * v + k] += static_cast<float>(n[k]);
+  }
+  for (std::size_t v = 0; v < positions.size(); ++v) {
+    float* n = &normals_xyz[3 * v];
+    const float len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    if (len > 0)
+      for (int k = 0; k < 3; ++k) n[k] /= len;
+  }
+}
+
+struct Renderer::Gpu {
+  GLuint mesh_program = 0, overlay_program = 0;
+  GLuint overlay_vao = 0, overlay_vbo = 0;
+  std::vector<GpuMesh> tissues, instruments, rigids;
+  std::vector<float> lines;  // overlay scratch
+  Real scene_size = 0.1;
+
+  GLint loc(GLuint program, const char* name) const { return glGetUniformLocation(program, name); }
+
+  void overlay(const Eigen::Matrix4f& matrix, GLenum mode, const std::vector<float>& xyz, const Eigen::Vector4f& rgba,
+               float point_size = 1) {
+    if (xyz.empty()) return;
+    glUseProgram(overlay_program);
+    glUniformMatrix4fv(loc(overlay_program, "u_matrix"), 1, GL_FALSE, matrix.data());
+    glUniform4fv(loc(overlay_program, "u_color"), 1, rgba.data());
+    glUniform1f(loc(overlay_program, "u_point_size"), point_size);
+    glBindVertexArray(overlay_vao);
+    glBindBuffer(GL_ARRAY_BUFFER, overlay_vbo);
+    glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(xyz.size() * sizeof(float)), xyz.data(), GL_STREAM_DRAW);
+    glDrawArrays(mode, 0, GLsizei(xyz.size() / 3));
+  }
+};
+
+Renderer::Renderer(const World& world) : gpu_(std::make_unique<Gpu>()) {
+  Gpu& g = *gpu_;
+  g.mesh_program = link(shaders::kMeshVertex, shaders::kMeshFragment, "mesh");
+  g.overlay_program = link(shaders::kOverlayVertex, shaders::kOverlayFragment, "overlay");
+  glGenVertexArrays(1, &g.overlay_vao);
+  glBindVertexArray(g.overlay_vao);
+  glGenBuffers(1, &g.overlay_vbo);
+  glBindBuffer(GL_ARRAY_BUFFER, g.overlay_vbo);
+  glEnableVertexAttribArray(0);
+  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+  glBindVertexArray(0);
+  Vec3 lo = Vec3::Constant(1e30), hi = Vec3::Constant(-1e30);
+  for (const auto& t : world.tissues) {
+    g.tissues.emplace_back().create(t->settings.rest_positions, t->settings.triangles, GL_DYNAMIC_DRAW);
+    for (const Vec3& p : t->settings.rest_positions) {
+      lo = lo.cwiseMin(p);
+      hi = hi.cwiseMax(p);
+    }
+  }
+  if (!world.tissues.empty()) g.scene_size = std::max(1e-3, (hi - lo).norm());
+  for (const InstrumentBody& b : world.instruments) {
+    const TriMesh& m = b.instrument.local_mesh();
+    GpuMesh& gm = g.instruments.emplace_back();
+    gm.create(m.positions, m.triangles, GL_STATIC_DRAW);
+    gm.local_positions = m.positions;
+  }
+  for (const RigidBody& r : world.rigids) g.rigids.emplace_back().create(r.mesh.positions, r.mesh.triangles, GL_STATIC_DRAW);
+}
+
+Renderer::~Renderer() {
+  Gpu& g = *gpu_;
+  for (auto* list : {&g.tissues, &g.instruments, &g.rigids})
+    for (GpuMesh& m : *list) m.destroy();
+  glDeleteBuffers(1, &g.overlay_vbo);
+  glDeleteVertexArrays(1, &g.overlay_vao);
+  glDeleteProgram(g.mesh_program);
+  glDeleteProgram(g.overlay_program);
+}
+
+void Renderer::draw(const ViewSnapshot& snap, const CameraView& cam, const RenderOptions& o, int width, int height) {
+  Gpu& g = *gpu_;
+  glViewport(0, 0, width, height);
+  if (o.id_colors) glClearColor(0, 0, 0, 1);
+  else glClearColor(0.035f, 0.012f, 0.010f, 1);  // the unlit depth of the abdominal cavity
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  glEnable(GL_DEPTH_TEST);
+  glDisable(GL_CULL_FACE);  // sheets are seen from both sides
+  const Eigen::Matrix4f view_projection = cam.projection * cam.view;
+  const GLuint p = g.mesh_program;
+  glUseProgram(p);
+  glUniformMatrix4fv(g.loc(p, "u_view_projection"), 1, GL_FALSE, view_projection.data());
+  const Eigen::Vector3f eye = cam.eye.cast<float>();
+  glUniform3fv(g.loc(p, "u_eye"), 1, eye.data());
+  const float light_range = static_cast<float>(o.light_range > 0 ? o.light_range : 1.5 * g.scene_size);
+  glUniform1f(g.loc(p, "u_light_range"), light_range);
+  glUniform1f(g.loc(p, "u_texture_scale"), static_cast<float>(12.0 / g.scene_size));
+  glUniform1f(g.loc(p, "u_vignette"), o.id_colors ? 0.0f : static_cast<float>(o.vignette));
+  glUniform2f(g.loc(p, "u_viewport"), float(width), float(height));
+  const auto material = [&](int mode, const Eigen::Vector3f& base, const Eigen::Vector3f& vessel) {
+    glUniform1i(g.loc(p, "u_mode"), o.id_colors ? 2 : mode);
+    glUniform3fv(g.loc(p, "u_base"), 1, base.data());
+    glUniform3fv(g.loc(p, "u_vessel"), 1, vessel.data());
+  };
+  const auto model = [&](const Eigen::Matrix4f& m) {
+    glUniformMatrix4fv(g.loc(p, "u_model"), 1, GL_FALSE, m.data());
+    const Eigen::Matrix3f normal = m.block<3, 3>(0, 0).inverse().transpose();
+    glUniformMatrix3fv(g.loc(p, "u_normal_matrix"), 1, GL_FALSE, normal.data());
+  };
+
+  model(Eigen::Matrix4f::Identity());
+  for (std::size_t t = 0; t < g.tissues.size() && t < snap.tissues.size(); ++t) {
+    if (snap.tissues[t].size() * 3 != g.tissues[t].scratch_positions.size()) continue;
+    g.tissues[t].update(snap.tissues[t]);
+    material(0, o.id_colors ? Eigen::Vector3f(1, 0, 0) : Eigen::Vector3f(0.80f, 0.36f, 0.33f),
+             Eigen::Vector3f(0.42f, 0.04f, 0.07f));
+    g.tissues[t].draw();
+  }
+  for (GpuMesh& r : g.rigids) {
+    material(0, o.id_colors ? Eigen::Vector3f(0, 0, 1) : Eigen::Vector3f(0.62f, 0.22f, 0.20f),
+             Eigen::Vector3f(0.78f, 0.62f, 0.55f));  // muscle with pale fascia strands
+    r.draw();
+  }
+  for (std::size_t i = 0; i < g.instruments.size() && i < snap.instruments.size(); ++i) {
+    model(pose_matrix(snap.instruments[i].pose));
+    material(1, o.id_colors ? Eigen::Vector3f(0, 1, 0) : Eigen::Vector3f(0.62f, 0.64f, 0.68f), Eigen::Vector3f::Zero());
+    g.instruments[i].draw();
+  }
+  if (o.wireframe && !o.id_colors) {
+    model(Eigen::Matrix4f::Identity());
+    glUniform1i(g.loc(p, "u_mode"), 2);
+    const Eigen::Vector3f edge(0.15f, 0.05f, 0.05f);
+    glUniform3fv(g.loc(p, "u_base"), 1, edge.data());
+    glPolygonMode(GL_FRONT_AND_BACK, GL_LINE);
+    glEnable(GL_POLYGON_OFFSET_LINE);
+    glPolygonOffset(-1, -1);
+    for (GpuMesh& m : g.tissues) m.draw();
+    glDisable(GL_POLYGON_OFFSET_LINE);
+    glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+  }
+  if (o.id_colors) return;
+
+  // Overlays, drawn over everything so they stay visible inside the tissue.
+  glDisable(GL_DEPTH_TEST);
+  glEnable(GL_PROGRAM_POINT_SIZE);
+  std::vector<float>& v = g.lines;
+  const auto push = [&v](const Vec3& a) {
+    v.push_back(float(a.x()));
+    v.push_back(float(a.y()));
+    v.push_back(float(a.z()));
+  };
+  if (o.contacts) {
+    v.clear();
+    for (const ContactView& c : snap.contacts) push(c.point);
+    g.overlay(view_projection, GL_POINTS, v, {1.0f, 0.9f, 0.1f, 1}, std::max(3.0f, float(height) / 160));
+  }
+  if (o.forces) {
+    v.clear();
+    for (const InstrumentView& iv : snap.instruments) {
+      if (iv.contacts == 0 || iv.force.norm() < 1e-6) continue;
+      // The arrow shows the force on the tissue (minus the instrument's), from the contact centre.
+      const Vec3 a = iv.contact_centre;
+      const Vec3 f = -iv.force * o.force_scale;
+      const Vec3 b = a + f;
+      push(a);
+      push(b);
+      const Vec3 dir = f.normalized();
+      Vec3 side = dir.cross(cam.forward);
+      if (side.norm() < 1e-6) side = dir.cross(cam.up);
+      side = side.normalized() * 0.25 * f.norm();
+      for (const Vec3& tip : {Vec3(b - 0.35 * f + side), Vec3(b - 0.35 * f - side)}) {
+        push(b);
+        push(tip);
+      }
+    }
+    glLineWidth(2);
+    g.overlay(view_projection, GL_LINES, v, {0.2f, 1.0f, 0.4f, 1});
+  }
+  if (o.obb) {
+    v.clear();
+    for (const InstrumentView& iv : snap.instruments) {
+      const Obb& b = iv.obb;
+      const auto corner = [&b](int i) {
+        Vec3 s((i & 1) ? 1 : -1, (i & 2) ? 1 : -1, (i & 4) ? 1 : -1);
+        return Vec3(b.center + b.axes * s.cwiseProduct(b.half_extents));
+      };
+      for (int i = 0; i < 8; ++i)
+        for (int bit : {1, 2, 4})
+          if (!(i & bit)) {
+            push(corner(i));
+            push(corner(i | bit));
+          }
+    }
+    g.overlay(view_projection, GL_LINES, v, {0.3f, 0.7f, 1.0f, 1});
+  }
+  if (o.cells && snap.cell_size > 0) {
+    // Cells holding vertices of an instrument and of a tissue: where the OHC grid finds
+    // potential collisions (by vertex occupancy; the detector hashes triangles' boxes).
+    const Real h = snap.cell_size;
+    const auto key = [h](const Vec3& x) {
+      const auto c = [h](Real q) { return std::int64_t(std::floor(q / h)) & 0x1fffff; };
+      return (c(x.x()) << 42) | (c(x.y()) << 21) | c(x.z());
+    };
+    std::unordered_set<std::int64_t> instrument_cells, shown;
+    for (std::size_t i = 0; i < snap.instruments.size() && i < g.instruments.size(); ++i)
+      for (const Vec3& x : g.instruments[i].local_positions)
+        instrument_cells.insert(key(snap.instruments[i].pose.apply(x)));
+    v.clear();
+    for (const auto& tissue : snap.tissues)
+      for (const Vec3& x : tissue) {
+        const std::int64_t k = key(x);
+        if (!instrument_cells.count(k) || !shown.insert(k).second) continue;
+        const Vec3 lo(std::floor(x.x() / h) * h, std::floor(x.y() / h) * h, std::floor(x.z() / h) * h);
+        for (int i = 0; i < 8; ++i)
+          for (int bit : {1, 2, 4})
+            if (!(i & bit)) {
+              const auto c = [&](int j) { return Vec3(lo + h * Vec3((j & 1) ? 1 : 0, (j & 2) ? 1 : 0, (j & 4) ? 1 : 0)); };
+              push(c(i));
+              push(c(i | bit));
+            }
+      }
+    g.overlay(view_projection, GL_LINES, v, {1.0f, 0.5f, 0.1f, 0.8f});
+  }
+  if (o.gauge) {
+    // One bar per instrument, bottom left, in normalised device coordinates.
+    for (std::size_t i = 0; i < snap.instruments.size(); ++i) {
+      const float x0 = -0.95f, x1 = -0.55f, y0 = -0.93f + 0.07f * float(i), y1 = y0 + 0.04f;
+      const float f = static_cast<float>(std::min(1.0, snap.instruments[i].force.norm() / std::max(1e-9, o.gauge_max)));
+      const auto quad = [&](float a, float b) {
+        v = {a, y0, 0, b, y0, 0, b, y1, 0, a, y0, 0, b, y1, 0, a, y1, 0};
+      };
+      quad(x0, x1);
+      g.overlay(Eigen::Matrix4f::Identity(), GL_TRIANGLES, v, {0.15f, 0.15f, 0.15f, 1});
+      quad(x0, x0 + f * (x1 - x0));
+      g.overlay(Eigen::Matrix4f::Identity(), GL_TRIANGLES, v, {0.2f + 0.8f * f, 0.9f * (1 - f) + 0.1f, 0.2f, 1});
+    }
+  }
+  glEnable(GL_DEPTH_TEST);
+  glBindVertexArray(0);
+}
+
+}  // namespace trocar

@@ -1,0 +1,127 @@
+#pragma once
+/// GLSL 3.30 core sources of the renderer (docs/render.md: the look of tissue under a scope).
+namespace trocar::shaders {
+
+/// Meshes: world position, normal and a texture coordinate (the rest position, so the procedural
+/// texture stays on the tissue as it deforms).
+inline constexpr const char* kMeshVertex = R"(#version 330 core
+layout(location = 0) in vec3 a_position;
+layout(location = 1) in vec3 a_normal;
+layout(location = 2) in vec3 a_texcoord;
+uniform mat4 u_model;
+uniform mat4 u_view_projection;
+uniform mat3 u_normal_matrix;
+out vec3 v_world;
+out vec3 v_normal;
+out vec3 v_texcoord;
+void main() {
+  vec4 world = u_model * vec4(a_position, 1.0);
+  v_world = world.xyz;
+  v_normal = u_normal_matrix * a_normal;
+  v_texcoord = a_texcoord;
+  gl_Position = u_view_projection * world;
+}
+)";
+
+/// Modes: 0 tissue (solid noise texture with vessels, wet specular), 1 metal, 2 flat colour (the
+/// id pass of the tests), 3 textured tissue with the mesh's own UVs in v_texcoord.xy.
+/// Light: a headlight at the eye (the scope's fibre light), falling off with distance.
+inline constexpr const char* kMeshFragment = R"(#version 330 core
+in vec3 v_world;
+in vec3 v_normal;
+in vec3 v_texcoord;
+out vec4 o_color;
+uniform int u_mode;
+uniform vec3 u_eye;
+uniform vec3 u_base;
+uniform vec3 u_vessel;
+uniform float u_texture_scale;   // noise cells per metre
+uniform float u_light_range;     // m: distance at which the light has fallen to one half
+uniform float u_vignette;        // 0 = none; else the radius (in half-heights) where darkening starts
+uniform vec2 u_viewport;
+uniform sampler2D u_texture;
+
+float hash(vec3 p) {
+  p = fract(p * 0.3183099 + vec3(0.71, 0.113, 0.419));
+  p *= 17.0;
+  return fract(p.x * p.y * p.z * (p.x + p.y + p.z));
+}
+float value_noise(vec3 x) {
+  vec3 i = floor(x);
+  vec3 f = fract(x);
+  f = f * f * (3.0 - 2.0 * f);
+  return mix(mix(mix(hash(i + vec3(0, 0, 0)), hash(i + vec3(1, 0, 0)), f.x),
+                 mix(hash(i + vec3(0, 1, 0)), hash(i + vec3(1, 1, 0)), f.x), f.y),
+             mix(mix(hash(i + vec3(0, 0, 1)), hash(i + vec3(1, 0, 1)), f.x),
+                 mix(hash(i + vec3(0, 1, 1)), hash(i + vec3(1, 1, 1)), f.x), f.y), f.z);
+}
+float fbm(vec3 p) {
+  float sum = 0.0, amplitude = 0.5;
+  for (int k = 0; k < 4; ++k) { sum += amplitude * value_noise(p); p = p * 2.03 + vec3(1.7); amplitude *= 0.5; }
+  return sum;
+}
+// Vessels: the zero set of a noise field is a web of thin branching lines (ridged noise).
+float vessels(vec3 p) {
+  float r1 = 1.0 - abs(2.0 * fbm(p) - 1.0);
+  float r2 = 1.0 - abs(2.0 * fbm(p * 2.7 + vec3(5.2)) - 1.0);
+  return max(smoothstep(0.972, 0.993, r1), 0.6 * smoothstep(0.978, 0.996, r2));
+}
+
+void main() {
+  if (u_mode == 2) { o_color = vec4(u_base, 1.0); return; }
+  vec3 n = normalize(v_normal);
+  if (!gl_FrontFacing) n = -n;   // open sheets (peritoneum) are lit from both sides
+  vec3 to_eye = u_eye - v_world;
+  float d = length(to_eye);
+  vec3 l = to_eye / max(d, 1e-6);
+  float ndl = max(dot(n, l), 0.0);
+  float falloff = 1.0 / (1.0 + (d * d) / (u_light_range * u_light_range));
+  vec3 color;
+  if (u_mode == 1) {
+    // Brushed steel: low diffuse, a broad and a sharp lobe, brighter at grazing angles.
+    float fresnel = pow(1.0 - ndl, 4.0);
+    vec3 diffuse = u_base * (0.25 + 0.45 * ndl);
+    float spec = 0.9 * pow(ndl, 40.0) + 0.35 * pow(ndl, 6.0);
+    color = (diffuse + vec3(spec) + 0.25 * fresnel * vec3(0.8, 0.85, 0.9)) * falloff;
+  } else {
+    vec3 albedo;
+    if (u_mode == 3) {
+      albedo = texture(u_texture, v_texcoord.xy).rgb;
+    } else {
+      vec3 p = v_texcoord * u_texture_scale;
+      float mottling = fbm(p * 0.8);
+      albedo = u_base * (0.75 + 0.5 * mottling);
+      albedo = mix(albedo, vec3(0.86, 0.70, 0.52), 0.35 * smoothstep(0.62, 0.78, fbm(p * 0.35 + vec3(9.1))));
+      albedo = mix(albedo, u_vessel, vessels(p * 0.5));
+    }
+    // Wet tissue under a headlight: Lambert plus a tight, strong highlight (mucosal film) and
+    // a weak broad one; light and eye coincide, so the half vector is l.
+    float spec = 0.85 * pow(ndl, 80.0) + 0.12 * pow(ndl, 10.0);
+    color = (albedo * (0.06 + 0.94 * ndl) + vec3(spec)) * falloff;
+  }
+  if (u_vignette > 0.0) {
+    vec2 c = (gl_FragCoord.xy - 0.5 * u_viewport) / (0.5 * u_viewport.y);
+    color *= 1.0 - smoothstep(u_vignette, u_vignette + 0.6, length(c));
+  }
+  o_color = vec4(pow(clamp(color, 0.0, 1.0), vec3(1.0 / 2.2)), 1.0);
+}
+)";
+
+/// Overlays: lines, points and screen-space quads in one colour.
+inline constexpr const char* kOverlayVertex = R"(#version 330 core
+layout(location = 0) in vec3 a_position;
+uniform mat4 u_matrix;
+uniform float u_point_size;
+void main() {
+  gl_Position = u_matrix * vec4(a_position, 1.0);
+  gl_PointSize = u_point_size;
+}
+)";
+
+inline constexpr const char* kOverlayFragment = R"(#version 330 core
+out vec4 o_color;
+uniform vec4 u_color;
+void main() { o_color = u_color; }
+)";
+
+}  // namespace trocar::shaders

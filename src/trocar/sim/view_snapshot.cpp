@@ -1,0 +1,56 @@
+#include "trocar/sim/view_snapshot.h"
+
+namespace trocar {
+
+void capture_view(const Simulation& sim, ViewSnapshot& out) {
+  const World& world = sim.world();
+  out.time = sim.time();
+  out.step = sim.metrics().step_index;
+  out.timings = sim.metrics().timings;
+  const OhcStats* ohc = sim.detector().ohc_stats();
+  out.cell_size = ohc ? ohc->cell_size : 0;
+  out.tissues.resize(world.tissues.size());
+  for (std::size_t t = 0; t < world.tissues.size(); ++t) {
+    const auto& x = world.tissues[t]->state.positions;
+    out.tissues[t].assign(x.begin(), x.end());
+  }
+  const std::size_t ni = world.instruments.size();
+  out.instruments.resize(ni);
+  const auto metrics = sim.instrument_metrics();
+  for (std::size_t i = 0; i < ni; ++i) {
+    const Instrument& inst = world.instruments[i].instrument;
+    InstrumentView& v = out.instruments[i];
+    v.pose = inst.pose();
+    v.jaw = inst.jaw();
+    v.obb = inst.world_obb();
+    v.force = i < metrics.size() ? metrics[i].force : Vec3::Zero();
+    v.contact_centre = Vec3::Zero();
+    v.contacts = 0;
+  }
+  // Object order in contacts: instruments, then tissues, then rigids (Simulation's objects_).
+  const std::size_t nt = world.tissues.size();
+  out.contacts.clear();
+  for (const Contact& c : sim.contacts()) {
+    if (c.kind != ContactKind::kInstrumentTissue) continue;
+    const std::uint32_t inst = c.object_a < ni ? c.object_a : c.object_b;
+    const std::uint32_t tissue_object = c.object_a < ni ? c.object_b : c.object_a;
+    const std::uint32_t tri = c.object_a < ni ? c.triangle_b : c.triangle_a;
+    if (inst >= ni || tissue_object < ni || tissue_object >= ni + nt) continue;
+    const TissueBody& tissue = *world.tissues[tissue_object - ni];
+    const Triangle& f = tissue.settings.triangles[tri];
+    const auto& x = tissue.state.positions;
+    Vec3 n = (x[f[1]] - x[f[0]]).cross(x[f[2]] - x[f[0]]);
+    const Real len = n.norm();
+    ContactView cv;
+    cv.point = 0.5 * (c.segment_p + c.segment_q);
+    cv.normal = len > 0 ? Vec3(n / len) : Vec3::Zero();
+    cv.instrument = inst;
+    out.contacts.push_back(cv);
+    out.instruments[inst].contact_centre += cv.point;
+    ++out.instruments[inst].contacts;
+  }
+  for (InstrumentView& v : out.instruments)
+    v.contact_centre = v.contacts > 0 ? Vec3(v.contact_centre / Real(v.contacts)) : v.pose.translation;
+}
+
+}  // namespace trocar

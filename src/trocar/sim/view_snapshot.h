@@ -1,0 +1,49 @@
+#pragma once
+/// What a renderer needs of one simulation step (DESIGN.md §1 "snapshot"): deformed tissue
+/// positions, instrument poses, forces, contacts and timings. Built by the thread that steps the
+/// simulation and read by the renderer on its own thread (through core/triple_buffer.h), so the
+/// renderer never touches the Simulation. Vectors keep their capacity: after the first capture
+/// of a scene, capture_view allocates only when more contacts appear than ever before.
+#include <cstdint>
+#include <vector>
+
+#include "trocar/core/obb.h"
+#include "trocar/core/pose.h"
+#include "trocar/core/types.h"
+#include "trocar/sim/simulation.h"
+
+namespace trocar {
+
+/// One instrument as drawn.
+struct InstrumentView {
+  Pose pose;                    ///< world pose (m)
+  Real jaw = 0;                 ///< closure 0..1
+  Obb obb;                      ///< world OBB (m)
+  Vec3 force = Vec3::Zero();    ///< force the device renders (N, on the instrument)
+  Vec3 contact_centre = Vec3::Zero();  ///< mean of its contact points (m); pose origin when none
+  std::uint32_t contacts = 0;   ///< instrument–tissue contacts this step
+};
+
+/// One instrument–tissue contact as drawn: the midpoint of the two triangles' intersection
+/// segment and the tissue triangle's outward normal.
+struct ContactView {
+  Vec3 point = Vec3::Zero();    ///< m
+  Vec3 normal = Vec3::Zero();   ///< unit, out of the tissue
+  std::uint32_t instrument = 0; ///< instrument index
+};
+
+/// One step as the renderer sees it.
+struct ViewSnapshot {
+  double time = 0;                               ///< simulated time (s)
+  std::uint64_t step = 0;                        ///< steps done
+  std::vector<std::vector<Vec3>> tissues;        ///< per tissue, its vertex positions (m)
+  std::vector<InstrumentView> instruments;       ///< per instrument
+  std::vector<ContactView> contacts;             ///< instrument–tissue contacts
+  StageTimings timings;                          ///< µs per module, last step
+  Real cell_size = 0;                            ///< OHC cell edge of the last detection (m; 0: none)
+};
+
+/// Copies what the renderer draws out of `sim` into `out` (reusing its storage).
+void capture_view(const Simulation& sim, ViewSnapshot& out);
+
+}  // namespace trocar
