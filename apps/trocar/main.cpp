@@ -7,6 +7,7 @@
 #include "realtime_command.h"
 #include "run_command.h"
 #include "study_command.h"
+#include "view_command.h"
 #include "trocar/core/error.h"
 
 int main(int argc, char** argv) {
@@ -19,6 +20,7 @@ int main(int argc, char** argv) {
   trocar::cli::add_study_command(app, exit_code);
   trocar::cli::add_replay_command(app, exit_code);
   trocar::cli::add_plot_command(app, exit_code);
+  trocar::cli::add_view_command(app, exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -39,7 +39,7 @@ Vec3 coupled_force(const LocalContactModel& model, Real coupling_stiffness, cons
 }
 
 Vec3 ForceShaper::shape(const Vec3& commanded, Real period_s) {
-  Vec3 f = commanded;
+  Vec3 f = shaping_.force_scale * commanded;
   const Real magnitude = f.norm();
   if (!std::isfinite(magnitude)) f = Vec3::Zero();
   else if (magnitude > shaping_.max_force) f *= shaping_.max_force / magnitude;

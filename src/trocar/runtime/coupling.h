@@ -36,6 +36,8 @@ Vec3 coupled_force(const LocalContactModel& model, Real coupling_stiffness, cons
 
 /// Per-tick force limits and the safe start (scene key `instruments[i].device`).
 struct ForceShaping {
+  Real force_scale = 1;     ///< the simulated force is multiplied by this before the clamp (a device
+                            ///< weaker or stronger than the tissue model's forces)
   Real max_force = 3.3;     ///< N: |F| is clamped here (≤ the device's own maximum)
   Real slew_rate = 2000;    ///< N/s: largest change of the rendered force per second
   /// Safe start (as CHAI3D's tools do): after connecting, the force stays off until the

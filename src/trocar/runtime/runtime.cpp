@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <climits>
 #include <cmath>
 #include <thread>
 
@@ -88,13 +89,15 @@ void Runtime::haptic_thread() {
     if (!w.empty()) s.haptic_warnings.push_back("haptic thread: " + w);
   }
   const double period_s = double(period_ns_) * 1e-9;
-  const std::int64_t end_ns = start_ns_ + static_cast<std::int64_t>(std::llround(settings_.duration * 1e9));
+  const std::int64_t end_ns = settings_.duration > 0
+                                  ? start_ns_ + static_cast<std::int64_t>(std::llround(settings_.duration * 1e9))
+                                  : INT64_MAX;
   std::int64_t next = start_ns_;
   std::int64_t previous = 0;
   TickRecord record;
   std::uint64_t tick = 0;
   const std::int64_t spin = std::min(settings_.spin_ns, period_ns_ / 2);
-  while (next < end_ns) {
+  while (next < end_ns && !stop_requested_.load(std::memory_order_relaxed)) {
     wait_until(next, spin);
     const std::int64_t t0 = monotonic_ns();
     if (double(t0 - next) > 0.1 * double(period_ns_)) ++s.late_ticks;
@@ -120,6 +123,8 @@ void Runtime::haptic_thread() {
       next += period_ns_;
       ++s.skipped_slots;
     }
+    live_.ticks.store(tick, std::memory_order_relaxed);
+    live_.late_ticks.store(s.late_ticks + s.skipped_slots, std::memory_order_relaxed);
   }
   report_.ticks = tick;
   s.stop.store(true, std::memory_order_release);
@@ -137,10 +142,26 @@ void Runtime::physics_thread() {
   StepRecord record;
   ContactModelSet models;
   std::int64_t next = start_ns_;
+  const auto view_ns = settings_.view_rate_hz > 0 ? static_cast<std::int64_t>(1e9 / settings_.view_rate_hz) : 0;
+  std::int64_t next_view = start_ns_;
   wait_until(start_ns_, 0);  // start with the haptic thread, not before
   while (!s.stop.load(std::memory_order_acquire)) {
+    const bool hold = paused_.load(std::memory_order_acquire) && step_requests_.load(std::memory_order_acquire) == 0;
+    if (hold) {  // paused: the haptic loop keeps rendering the last models
+      next += step_ns;
+      wait_until(next, 0);
+      continue;
+    }
+    if (paused_.load(std::memory_order_relaxed)) step_requests_.fetch_sub(1, std::memory_order_acq_rel);
     s.commands.read(commands);
     models = stepper_.step(commands, dt, 0, record);
+    live_.physics_steps.fetch_add(1, std::memory_order_relaxed);
+    if (view_ns > 0 && monotonic_ns() >= next_view) {
+      capture_view(sim_, views_.back());
+      views_.publish();
+      next_view += view_ns;
+      if (next_view < monotonic_ns()) next_view = monotonic_ns() + view_ns;
+    }
     const std::int64_t now = monotonic_ns();
     models.timestamp_ns = now;
     s.models.publish(models);
@@ -161,12 +182,20 @@ RuntimeReport Runtime::run() {
   start_ns_ = monotonic_ns() + 20000000;  // 20 ms for the threads to start and take their CPUs
   const std::uint64_t steps_before = sim_.metrics().step_index;
   const double sim_before = sim_.time();
+  if (settings_.view_rate_hz > 0 && !settings_.lockstep)
+    for (ViewSnapshot& v : views_.slots()) {  // sized before the threads start; captures then reuse the storage
+      capture_view(sim_, v);
+      v.contacts.reserve(4096);
+    }
+  live_.started_ns.store(start_ns_, std::memory_order_relaxed);
+  live_.running.store(true, std::memory_order_release);
   std::thread physics;
   if (!settings_.lockstep) physics = std::thread([this] { physics_thread(); });
   std::thread haptic([this] { haptic_thread(); });
   haptic.join();
   if (physics.joinable()) physics.join();
   const std::int64_t end = monotonic_ns();
+  live_.running.store(false, std::memory_order_release);
   for (RuntimeChannel& c : channels_) c.device->close();
 
   Shared& s = *shared_;

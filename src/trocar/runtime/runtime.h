@@ -3,17 +3,20 @@
 /// renders force from the local contact models while a physics thread steps the simulation at
 /// its own rate (multirate), or physics runs inside the haptic tick (lock-step). Threads exchange
 /// one consistent struct per publish through Seqlocks; a recorder drains both into a file.
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "trocar/core/triple_buffer.h"
 #include "trocar/device/device.h"
 #include "trocar/runtime/haptic_channel.h"
 #include "trocar/runtime/histogram.h"
 #include "trocar/runtime/physics_stepper.h"
 #include "trocar/runtime/recording.h"
 #include "trocar/sim/simulation.h"
+#include "trocar/sim/view_snapshot.h"
 
 namespace trocar {
 
@@ -21,7 +24,7 @@ namespace trocar {
 struct RuntimeSettings {
   Real haptic_rate_hz = 1000;   ///< 1, 4 or 10 kHz in practice
   bool lockstep = false;        ///< physics inside the haptic tick, dt = the haptic period
-  Real duration = 1;            ///< s of wall-clock time to run
+  Real duration = 1;            ///< s of wall-clock time to run; ≤ 0 = until request_stop()
   Real physics_timestep = 1e-3; ///< s per physics step (multirate; the scene's timestep)
   bool realtime_scheduling = true;  ///< try SCHED_FIFO and CPU pinning (warn when refused)
   bool lock_memory = false;     ///< mlockall before starting
@@ -33,6 +36,19 @@ struct RuntimeSettings {
   std::int64_t spin_ns = 200000;
   Real stiffness_prior = 500;   ///< N/m, contact stiffness before one is measured
   ModelHandover handover;       ///< blending and ageing of models
+  /// Multirate: the physics thread publishes a ViewSnapshot to Runtime::views() at most this
+  /// often (Hz; 0 = never), for a renderer on another thread.
+  Real view_rate_hz = 0;
+};
+
+/// What the runtime is doing now, readable from any thread while it runs (relaxed atomics the
+/// loops store once per tick or step: no lock, no wait).
+struct RuntimeLive {
+  std::atomic<std::uint64_t> ticks{0};          ///< haptic ticks so far
+  std::atomic<std::uint64_t> late_ticks{0};     ///< ticks > 10 % of a period late, plus skipped slots
+  std::atomic<std::uint64_t> physics_steps{0};  ///< physics steps so far
+  std::atomic<std::int64_t> started_ns{0};      ///< steady-clock start of the loops
+  std::atomic<bool> running{false};             ///< between the start and the join of the loops
 };
 
 /// One instrument's device and how it is coupled (index = the World's instrument index).
@@ -76,8 +92,21 @@ class Runtime {
   Runtime& operator=(const Runtime&) = delete;
   ~Runtime();
 
-  /// Opens the devices, runs for settings.duration of wall-clock time, joins, closes them.
+  /// Opens the devices, runs for settings.duration of wall-clock time (or until
+  /// request_stop()), joins, closes them.
   RuntimeReport run();
+
+  /// Ends run() from another thread (within a haptic period).
+  void request_stop() { stop_requested_.store(true, std::memory_order_release); }
+  /// Multirate: while paused the physics thread does not step (the haptic loop runs on the last
+  /// contact models); step_once() then runs exactly one step.
+  void set_paused(bool paused) { paused_.store(paused, std::memory_order_release); }
+  bool paused() const { return paused_.load(std::memory_order_acquire); }  ///< see set_paused
+  void step_once() { step_requests_.fetch_add(1, std::memory_order_acq_rel); }  ///< see set_paused
+  /// The physics thread's view snapshots (settings.view_rate_hz); the reader calls update().
+  TripleBuffer<ViewSnapshot>& views() { return views_; }
+  /// Counters for a live display.
+  const RuntimeLive& live() const { return live_; }
 
  private:
   void haptic_thread();
@@ -95,6 +124,11 @@ class Runtime {
   struct Shared;
   std::unique_ptr<Shared> shared_;
   RuntimeReport report_;
+  std::atomic<bool> stop_requested_{false};
+  std::atomic<bool> paused_{false};
+  std::atomic<int> step_requests_{0};
+  TripleBuffer<ViewSnapshot> views_;
+  RuntimeLive live_;
 };
 
 }  // namespace trocar

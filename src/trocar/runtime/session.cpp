@@ -2,6 +2,7 @@
 
 #include "trocar/core/error.h"
 #include "trocar/device/null_device.h"
+#include "trocar/device/port_device.h"
 #include "trocar/device/scripted_device.h"
 #include "trocar/runtime/recording.h"
 #include "trocar/runtime/replay_device.h"
@@ -15,9 +16,23 @@
 namespace trocar {
 namespace {
 
+}  // namespace
+
+PortKinematics port_kinematics(const DeviceSpec& spec, const InstrumentBody& body) {
+  const Pose start = body.motion.keyframes().empty() ? body.instrument.pose() : body.motion.sample(0).pose;
+  const Instrument& inst = body.instrument;
+  const Vec3 top_local = inst.local_mesh().positions[inst.top_vertex()];
+  const Vec3 shaft = start.apply(top_local) - start.translation;
+  const Vec3 pivot = spec.has_pivot ? spec.pivot : default_port(start, top_local);
+  return PortKinematics(start, shaft.norm() > 1e-9 ? Vec3(shaft.normalized()) : Vec3(0, 0, 1), pivot);
+}
+
+namespace {
+
 std::unique_ptr<Device> make_device(const DeviceSpec& spec, const InstrumentBody& body, std::size_t index) {
   if (!spec.given || spec.driver == "scripted")
     return std::make_unique<ScriptedDevice>(body.motion, spec.max_force, spec.damping);
+  if (spec.driver == "mouse") return std::make_unique<PortDevice>(port_kinematics(spec, body));
   if (spec.driver == "null") return std::make_unique<NullDevice>(body.motion.sample(0).pose);
   if (spec.driver == "replay") return std::make_unique<ReplayDevice>(spec.recording, index, spec.max_force, spec.damping);
   if (spec.driver == "openigtlink") {
@@ -55,6 +70,7 @@ std::vector<RuntimeChannel> make_channels(const std::vector<DeviceSpec>& devices
     c.coupling.stiffness = spec.coupling_stiffness;
     c.coupling.damping = spec.coupling_damping;
     c.shaping.max_force = spec.max_force;
+    c.shaping.force_scale = spec.force_scale;
     c.shaping.slew_rate = spec.slew_rate;
     c.shaping.engage_below = spec.engage_below;
     c.shaping.ramp_time = spec.ramp_time;

@@ -5,10 +5,15 @@
 #include <filesystem>
 #include <vector>
 
+#include "trocar/device/port_device.h"
 #include "trocar/runtime/runtime.h"
 #include "trocar/scene/scene.h"
 
 namespace trocar {
+
+/// The port pivot of a "mouse"-driven instrument: its scene "pivot", else default_port of its
+/// starting pose (the motion's first sample, else its current pose).
+PortKinematics port_kinematics(const DeviceSpec& spec, const InstrumentBody& body);
 
 /// One RuntimeChannel per instrument of `world` from `devices` (Scene::devices, same index).
 /// Throws trocar::Error naming the scene key for a driver this build lacks.

@@ -143,15 +143,20 @@ KeyframeMotion read_motion(const JsonReader& m) {
 
 DeviceSpec read_device(const JsonReader& d, const std::filesystem::path& dir) {
   d.expect_keys({"driver", "port", "recording", "translate", "rotate_deg", "scale", "coupling", "max_force",
-                 "slew_rate", "engage_below", "ramp_time", "damping", "stale_after"});
+                 "slew_rate", "engage_below", "ramp_time", "damping", "stale_after", "pivot", "force_scale"});
   DeviceSpec s;
   s.given = true;
   s.where = d.file() + ": " + d.path();
   const JsonReader driver = d.at("driver");
   s.driver = driver.string();
   if (s.driver != "null" && s.driver != "scripted" && s.driver != "replay" && s.driver != "openigtlink" &&
-      s.driver != "spacemouse")
-    driver.fail("unknown driver \"" + s.driver + "\" (known: null, scripted, replay, openigtlink, spacemouse)");
+      s.driver != "spacemouse" && s.driver != "mouse")
+    driver.fail("unknown driver \"" + s.driver + "\" (known: null, scripted, replay, openigtlink, spacemouse, mouse)");
+  if (d.has("pivot")) {
+    if (s.driver != "mouse") d.at("pivot").fail("only the mouse driver pivots about a port");
+    s.has_pivot = true;
+    s.pivot = d.at("pivot").vec3();
+  }
   if (d.has("port")) s.port = static_cast<int>(d.at("port").integer(0, 65535));
   if (s.driver == "replay") {
     const JsonReader rec = d.at("recording");
@@ -168,6 +173,7 @@ DeviceSpec read_device(const JsonReader& d, const std::filesystem::path& dir) {
     if (c.has("damping")) s.coupling_damping = c.at("damping").number_at_least(0);
   }
   if (d.has("max_force")) s.max_force = d.at("max_force").number_at_least(0);
+  if (d.has("force_scale")) s.force_scale = d.at("force_scale").number_at_least(0);
   if (d.has("slew_rate")) s.slew_rate = d.at("slew_rate").number_above(0);
   if (d.has("engage_below")) s.engage_below = d.at("engage_below").number_above(0);
   if (d.has("ramp_time")) s.ramp_time = d.at("ramp_time").number_at_least(0);

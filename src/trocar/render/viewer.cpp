@@ -1,0 +1,455 @@
+#include "trocar/render/viewer.h"
+
+#include <epoxy/gl.h>
+// GLFW after epoxy: epoxy provides the GL declarations.
+#include <GLFW/glfw3.h>
+#include <backends/imgui_impl_glfw.h>
+#include <backends/imgui_impl_opengl3.h>
+#include <imgui.h>
+#include <pthread.h>
+#include <sched.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <ctime>
+#include <fstream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <thread>
+
+#include "trocar/core/error.h"
+#include "trocar/device/port_device.h"
+#include "trocar/render/frame_recorder.h"
+#include "trocar/render/offscreen.h"
+#include "trocar/render/renderer.h"
+#include "trocar/render/viewer_input.h"
+#include "trocar/render/viewer_panel.h"
+#include "trocar/runtime/recording.h"
+#include "trocar/runtime/runtime.h"
+#include "trocar/runtime/session.h"
+#include "trocar/scene/scene.h"
+
+namespace trocar {
+namespace {
+
+namespace fs = std::filesystem;
+constexpr int kHapticCpu = 1;
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+/// Keeps this thread (and the threads llvmpipe starts from it, which inherit its CPU mask) off
+/// the haptic thread's core, so drawing never competes with the haptic loop for its CPU.
+void keep_off_haptic_core() {
+  const unsigned n = std::thread::hardware_concurrency();
+  if (n < 2) return;
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  for (unsigned c = 0; c < n; ++c)
+    if (int(c) != kHapticCpu) CPU_SET(c, &set);
+  pthread_setaffinity_np(pthread_self(), sizeof set, &set);
+  setenv("LP_NUM_THREADS", std::to_string(std::max(1u, n - 1)).c_str(), 0);
+}
+
+/// One run of the scene on the runtime (the viewer restarts it on Apply, Reset and Record).
+struct Session {
+  std::string name;
+  std::vector<CameraSpec> cameras;
+  std::unique_ptr<Simulation> sim;
+  std::unique_ptr<RecordingWriter> recorder;
+  fs::path recording;
+  std::unique_ptr<Runtime> runtime;
+  std::thread thread;
+  RuntimeReport report;
+  PortDevice* port = nullptr;
+  std::string device;
+  ViewSnapshot first;  // drawn until the runtime publishes
+  std::string scene_text;
+  double timestep = 1e-3;  // the scene's "timestep": the physics thread's step
+
+  void launch(const ViewerOptions& o, const std::vector<DeviceSpec>& devices, const PortCommand& command) {
+    std::vector<RuntimeChannel> channels = make_channels(devices, sim->world());
+    port = o.drive >= 0 && std::size_t(o.drive) < channels.size()
+               ? dynamic_cast<PortDevice*>(channels[std::size_t(o.drive)].device.get())
+               : nullptr;
+    if (port) port->set(command);
+    device = o.drive >= 0 && std::size_t(o.drive) < channels.size() ? channels[std::size_t(o.drive)].device->specs().name
+                                                                     : "scripted";
+    RuntimeSettings s;
+    s.haptic_rate_hz = o.haptic_rate_hz;
+    s.duration = 0;  // until stopped
+    s.physics_timestep = timestep;
+    s.view_rate_hz = 60;
+    s.realtime_scheduling = o.realtime_scheduling;
+    s.haptic_cpu = kHapticCpu;
+    capture_view(*sim, first);
+    runtime = std::make_unique<Runtime>(*sim, std::move(channels), s, recorder.get());
+    thread = std::thread([this] { report = runtime->run(); });
+  }
+  void halt() {
+    if (!runtime) return;
+    runtime->request_stop();
+    if (thread.joinable()) thread.join();
+    runtime.reset();
+  }
+  void finish() {
+    halt();
+    if (recorder) {
+      finish_recording(*recorder, *sim);
+      recorder.reset();
+    }
+  }
+  const ViewSnapshot& view() {
+    if (runtime && runtime->live().running.load(std::memory_order_acquire)) {
+      runtime->views().update();
+      if (runtime->views().front().step > 0 || !runtime->views().front().tissues.empty()) return runtime->views().front();
+    }
+    return first;
+  }
+};
+
+struct Viewer {
+  ViewerOptions options;
+  nlohmann::json doc;
+  SceneEdits edits;
+  RenderOptions render;
+  PanelLive live;
+  ViewerInput input;
+  GLFWwindow* window = nullptr;
+  std::unique_ptr<Renderer> renderer;
+  std::unique_ptr<Session> session;
+  std::vector<DeviceSpec> devices;
+  std::string timestep_note;
+
+  /// Builds the scene from the (edited) document and starts it; a bad edit keeps the old session.
+  void start(bool record) {
+    const std::string text = doc.dump(2);
+    Scene scene = parse_scene(text, options.scene.string(), options.scene.parent_path());
+    auto next = std::make_unique<Session>();
+    next->name = scene.name;
+    next->cameras = scene.cameras;
+    next->scene_text = text;
+    next->timestep = scene.timestep;
+    devices = scene.devices;
+    if (options.drive >= 0 && std::size_t(options.drive) < devices.size() && !devices[std::size_t(options.drive)].given) {
+      devices[std::size_t(options.drive)].given = true;
+      devices[std::size_t(options.drive)].driver = "mouse";
+      devices[std::size_t(options.drive)].where = options.scene.string() + ": instruments[" +
+                                                  std::to_string(options.drive) + "] (viewer mouse)";
+    }
+    scene.settings.measure_penetration = false;  // exact metrics are for studies, not the live loop
+    next->sim = std::make_unique<Simulation>(std::move(scene.world), scene.settings);
+    if (record) {
+      fs::create_directories(options.record_dir);
+      char stamp[32];
+      const std::time_t now = std::time(nullptr);
+      std::strftime(stamp, sizeof stamp, "%Y%m%d-%H%M%S", std::localtime(&now));
+      next->recording = options.record_dir / (next->name + "-" + stamp + ".trec");
+      RuntimeSettings rs;
+      rs.haptic_rate_hz = options.haptic_rate_hz;
+      rs.physics_timestep = scene.timestep;
+      next->recorder = std::make_unique<RecordingWriter>(next->recording,
+                                                          session_header(options.scene, text, *next->sim, rs));
+    }
+    if (session) session->finish();
+    renderer.reset();
+    session = std::move(next);
+    input.set_command(PortCommand{});
+    session->launch(options, devices, input.command());
+    renderer = std::make_unique<Renderer>(session->sim->world());
+    live.recording = record;
+    live.recording_path = session->recording.string();
+    live.device = session->device;
+    live.paused = false;
+  }
+
+  /// Ends a recording without resetting: the scene goes on on a fresh runtime.
+  void stop_recording() {
+    session->finish();
+    live.status = "saved " + session->recording.string() + " (trocar replay checks it)";
+    session->launch(options, devices, input.command());
+    live.recording = false;
+  }
+
+  CameraView camera(int w, int h) const {
+    if (input.free_camera) return make_camera_view(input.orbit, double(w) / double(std::max(h, 1)));
+    return make_camera_view(select_camera(session->cameras, session->sim->world(), options.camera),
+                            double(w) / double(std::max(h, 1)));
+  }
+};
+
+ViewerKey glfw_key(int key) {
+  switch (key) {
+    case GLFW_KEY_W: return ViewerKey::kInsert;
+    case GLFW_KEY_S: return ViewerKey::kRetract;
+    case GLFW_KEY_A: return ViewerKey::kYawLeft;
+    case GLFW_KEY_D: return ViewerKey::kYawRight;
+    case GLFW_KEY_UP: return ViewerKey::kPitchUp;
+    case GLFW_KEY_DOWN: return ViewerKey::kPitchDown;
+    case GLFW_KEY_Q: return ViewerKey::kRollLeft;
+    case GLFW_KEY_E: return ViewerKey::kRollRight;
+    case GLFW_KEY_SPACE: return ViewerKey::kJaw;
+    case GLFW_KEY_C: return ViewerKey::kToggleCamera;
+    case GLFW_KEY_P: return ViewerKey::kPause;
+    case GLFW_KEY_N: return ViewerKey::kStep;
+    case GLFW_KEY_R: return ViewerKey::kReset;
+    default: return ViewerKey::kOther;
+  }
+}
+
+Viewer* viewer_of(GLFWwindow* w) { return static_cast<Viewer*>(glfwGetWindowUserPointer(w)); }
+
+void handle_key_action(Viewer& v, ViewerKey action) {
+  if (action == ViewerKey::kPause) {
+    v.live.paused = !v.live.paused;
+    v.session->runtime->set_paused(v.live.paused);
+  } else if (action == ViewerKey::kStep) {
+    v.live.paused = true;
+    v.session->runtime->set_paused(true);
+    v.session->runtime->step_once();
+  } else if (action == ViewerKey::kReset) {
+    v.start(false);
+  }
+}
+
+void install_callbacks(GLFWwindow* window) {
+  glfwSetMouseButtonCallback(window, [](GLFWwindow* w, int button, int action, int) {
+    double x = 0, y = 0;
+    glfwGetCursorPos(w, &x, &y);
+    viewer_of(w)->input.mouse_button(button, action == GLFW_PRESS, x, y, ImGui::GetIO().WantCaptureMouse);
+  });
+  glfwSetCursorPosCallback(window, [](GLFWwindow* w, double x, double y) { viewer_of(w)->input.cursor(x, y); });
+  glfwSetScrollCallback(window, [](GLFWwindow* w, double, double dy) {
+    viewer_of(w)->input.scroll(dy, ImGui::GetIO().WantCaptureMouse);
+  });
+  glfwSetKeyCallback(window, [](GLFWwindow* w, int key, int, int action, int) {
+    if (action == GLFW_REPEAT || ImGui::GetIO().WantCaptureKeyboard) return;
+    Viewer& v = *viewer_of(w);
+    handle_key_action(v, v.input.key(glfw_key(key), action == GLFW_PRESS));
+  });
+}
+
+void play(Viewer& v, const InjectedEvent& e) {
+  switch (e.kind[0]) {
+    case 'd': v.input.mouse_button(e.button, true, e.x, e.y); break;
+    case 'u': v.input.mouse_button(e.button, false, e.x, e.y); break;
+    case 'm': v.input.cursor(e.x, e.y); break;
+    case 's': v.input.scroll(e.y); break;
+    default: handle_key_action(v, v.input.key(e.key, e.kind == "key")); break;
+  }
+}
+
+Image read_window(int w, int h) {
+  Image img;
+  img.width = w;
+  img.height = h;
+  std::vector<std::uint8_t> rgb(std::size_t(w) * std::size_t(h) * 3);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadBuffer(GL_BACK);
+  glReadPixels(0, 0, w, h, GL_RGB, GL_UNSIGNED_BYTE, rgb.data());
+  img.rgb.resize(rgb.size());
+  const std::size_t row = std::size_t(w) * 3;
+  for (int y = 0; y < h; ++y) std::copy_n(&rgb[std::size_t(h - 1 - y) * row], row, &img.rgb[std::size_t(y) * row]);
+  return img;
+}
+
+}  // namespace
+
+int run_viewer(const ViewerOptions& options) {
+  Viewer v;
+  v.options = options;
+  const std::string text = read_scene_text(options.scene);
+  parse_scene(text, options.scene.string(), options.scene.parent_path());  // a bad scene fails before a window opens
+  v.doc = nlohmann::json::parse(text);
+  v.edits = edits_from(v.doc, options.drive);
+  std::vector<InjectedEvent> events;
+  if (!options.inject.empty()) events = read_injected_events(options.inject.string());
+
+  keep_off_haptic_core();
+  glfwSetErrorCallback([](int, const char* what) { std::fprintf(stderr, "trocar view: glfw: %s\n", what); });
+  if (!glfwInit())
+    throw Error("no display: trocar view needs a window system (set DISPLAY, or run under xvfb-run); "
+                "for headless frames use trocar run SCENE --frames DIR");
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
+  glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+  glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+  glfwWindowHint(GLFW_SAMPLES, 4);
+  v.window = glfwCreateWindow(options.width, options.height, ("trocar — " + options.scene.filename().string()).c_str(),
+                              nullptr, nullptr);
+  if (!v.window) {
+    glfwTerminate();
+    throw Error("trocar view: cannot open an OpenGL 3.3 core window (is the display's GL too old?)");
+  }
+  glfwMakeContextCurrent(v.window);
+  glfwSwapInterval(1);
+  glfwSetWindowUserPointer(v.window, &v);
+  install_callbacks(v.window);  // before ImGui's, which chain to them
+
+  IMGUI_CHECKVERSION();
+  ImGui::CreateContext();
+  ImGui::GetIO().IniFilename = nullptr;
+  ImGui::StyleColorsDark();
+  ImGui_ImplGlfw_InitForOpenGL(v.window, true);
+  ImGui_ImplOpenGL3_Init("#version 330");
+
+  int status = 0;
+  nlohmann::json report;
+  try {
+    v.start(false);
+    v.input.orbit = default_orbit_camera(v.session->sim->world());
+    const auto t0 = std::chrono::steady_clock::now();
+    auto last = t0;
+    std::size_t next_event = 0, frames = 0, fps_frames = 0;
+    double fps_since = 0;
+    std::uint64_t last_ticks = 0;
+    double last_tick_time = 0;
+    Vec3 start_position = Vec3::Zero(), end_position = Vec3::Zero();
+    bool have_start = false;
+    while (!glfwWindowShouldClose(v.window)) {
+      const double now = seconds_since(t0);
+      const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - last).count();
+      last = std::chrono::steady_clock::now();
+      glfwPollEvents();
+      while (next_event < events.size() && events[next_event].time <= now) play(v, events[next_event++]);
+      v.input.advance(dt);
+      if (v.input.take_changed() && v.session->port) v.session->port->set(v.input.command());
+
+      const ViewSnapshot& snap = v.session->view();
+      if (options.drive >= 0 && std::size_t(options.drive) < snap.instruments.size()) {
+        end_position = snap.instruments[std::size_t(options.drive)].pose.translation;
+        if (!have_start) start_position = end_position, have_start = true;
+      }
+      // Live figures.
+      const RuntimeLive& rl = v.session->runtime->live();
+      const std::uint64_t ticks = rl.ticks.load(std::memory_order_relaxed);
+      if (now - last_tick_time >= 0.25) {
+        v.live.haptic_rate_hz = double(ticks - std::min(ticks, last_ticks)) / (now - last_tick_time);
+        last_ticks = ticks;
+        last_tick_time = now;
+      }
+      v.live.deadline_miss_fraction = ticks ? double(rl.late_ticks.load(std::memory_order_relaxed)) / double(ticks) : 0;
+      const double run_s = double(std::chrono::steady_clock::now().time_since_epoch().count() -
+                                  rl.started_ns.load(std::memory_order_relaxed)) * 1e-9;
+      v.live.physics_rate_hz = run_s > 0 ? double(rl.physics_steps.load(std::memory_order_relaxed)) / run_s : 0;
+      v.live.sim_time = snap.time;
+      v.live.step_us.add(float(snap.timings.step));
+      v.live.broad_us.add(float(snap.timings.broad_phase));
+      v.live.narrow_us.add(float(snap.timings.narrow_phase));
+      v.live.response_us.add(float(snap.timings.response));
+      v.live.deformation_us.add(float(snap.timings.deformation));
+      v.live.haptic_khz.add(float(v.live.haptic_rate_hz * 1e-3));
+      v.live.frame_ms.add(float(dt * 1e3));
+      if (now - fps_since >= 0.5) {  // frames over the last half second
+        v.live.fps = double(frames - fps_frames) / (now - fps_since);
+        fps_frames = frames;
+        fps_since = now;
+      }
+      v.live.free_camera = v.input.free_camera;
+
+      int fw = 0, fh = 0;
+      glfwGetFramebufferSize(v.window, &fw, &fh);
+      v.renderer->draw(snap, v.camera(fw, fh), v.render, fw, fh);
+      ImGui_ImplOpenGL3_NewFrame();
+      ImGui_ImplGlfw_NewFrame();
+      ImGui::NewFrame();
+      PanelActions a;
+      if (options.panel) a = draw_panel(v.edits, v.render, v.live);
+      ImGui::Render();
+      ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+      ++frames;
+      const bool quitting = options.quit_after > 0 && now >= options.quit_after;
+      if (a.screenshot || (quitting && !options.screenshot.empty())) {
+        const fs::path shot = quitting && !options.screenshot.empty() ? options.screenshot : fs::path("trocar-shot.png");
+        write_png(shot.c_str(), read_window(fw, fh));
+        v.live.status = "screenshot " + shot.string();
+      }
+      glfwSwapBuffers(v.window);
+      if (quitting) break;
+      try {
+        if (a.pause) handle_key_action(v, ViewerKey::kPause);
+        if (a.step) handle_key_action(v, ViewerKey::kStep);
+        if (a.camera) v.input.free_camera = !v.input.free_camera;
+        if (a.reset) v.start(false);
+        if (a.record) {
+          if (v.live.recording) v.stop_recording();
+          else v.start(true);
+        }
+        if (a.apply) {
+          nlohmann::json edited = v.doc;
+          apply_edits(edited, v.edits, options.drive);
+          std::swap(v.doc, edited);
+          try {
+            v.start(false);
+            v.live.status = "applied";
+          } catch (const Error&) {
+            std::swap(v.doc, edited);  // keep the scene that worked
+            throw;
+          }
+        }
+      } catch (const Error& e) {
+        v.live.status = e.what();  // a rejected edit: shown in the panel, the old scene runs on
+      }
+    }
+    const double wall = seconds_since(t0);
+    v.session->finish();
+    const RuntimeReport& r = v.session->report;
+    report = {
+        {"scene", v.session->name},
+        {"frames", frames},
+        {"wall_time_s", wall},
+        {"fps", wall > 0 ? double(frames) / wall : 0},
+        {"size", {options.width, options.height}},
+        {"haptic",
+         {{"rate_nominal_hz", options.haptic_rate_hz},
+          {"rate_hz", r.rate_hz},
+          {"ticks", r.ticks},
+          {"deadline_miss_fraction", r.deadline_miss_fraction},
+          {"period_us_p99", r.period_us.p99()},
+          {"warnings", r.warnings}}},
+        {"physics", {{"steps", r.physics_steps}, {"rate_hz", r.physics_rate_hz}, {"step_us_median", r.physics.step.median()}}},
+        {"driven_instrument",
+         {{"index", options.drive},
+          {"device", v.session->device},
+          {"start", {start_position.x(), start_position.y(), start_position.z()}},
+          {"end", {end_position.x(), end_position.y(), end_position.z()}},
+          {"travel_m", (end_position - start_position).norm()},
+          {"command",
+           {{"yaw", v.input.command().yaw},
+            {"pitch", v.input.command().pitch},
+            {"depth", v.input.command().depth},
+            {"roll", v.input.command().roll},
+            {"jaw", v.input.command().jaw}}}}},
+        {"events_played", next_event},
+    };
+  } catch (...) {
+    if (v.session) v.session->finish();
+    v.renderer.reset();
+    ImGui_ImplOpenGL3_Shutdown();
+    ImGui_ImplGlfw_Shutdown();
+    ImGui::DestroyContext();
+    glfwDestroyWindow(v.window);
+    glfwTerminate();
+    throw;
+  }
+  v.renderer.reset();
+  ImGui_ImplOpenGL3_Shutdown();
+  ImGui_ImplGlfw_Shutdown();
+  ImGui::DestroyContext();
+  glfwDestroyWindow(v.window);
+  glfwTerminate();
+  if (!options.report.empty()) {
+    std::ofstream out(options.report);
+    if (!out) throw Error(options.report.string() + ": cannot write the viewer report");
+    out << report.dump(2) << "\n";
+  }
+  std::printf("view: %s, %zu frames in %.1f s (%.1f fps); haptic %.0f Hz, deadline misses %.3f %%\n",
+              report["scene"].get<std::string>().c_str(), report["frames"].get<std::size_t>(),
+              report["wall_time_s"].get<double>(), report["fps"].get<double>(),
+              report["haptic"]["rate_hz"].get<double>(), 100 * report["haptic"]["deadline_miss_fraction"].get<double>());
+  return status;
+}
+
+}  // namespace trocar
