@@ -1,0 +1,89 @@
+// The viewer's event mapping (render/viewer_input.h) and its event scripts.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "trocar/core/error.h"
+#include "trocar/render/viewer_input.h"
+
+namespace trocar {
+namespace {
+
+TEST(ViewerInput, LeftDragPivotsRightDragRollsAndInsertsWheelInserts) {
+  ViewerInput in;
+  in.mouse_button(0, true, 100, 100);
+  in.cursor(150, 80);
+  in.mouse_button(0, false, 150, 80);
+  EXPECT_NEAR(in.command().yaw, -50 * ViewerInput::kRadiansPerPixel, 1e-12);
+  EXPECT_NEAR(in.command().pitch, -20 * ViewerInput::kRadiansPerPixel, 1e-12);
+  EXPECT_TRUE(in.take_changed());
+  EXPECT_FALSE(in.take_changed());
+  in.cursor(300, 300);  // no button: nothing moves
+  EXPECT_FALSE(in.take_changed());
+  in.mouse_button(1, true, 300, 300);
+  in.cursor(310, 290);
+  EXPECT_NEAR(in.command().roll, 10 * ViewerInput::kRollPerPixel, 1e-12);
+  EXPECT_NEAR(in.command().depth, 10 * ViewerInput::kDepthPerPixel, 1e-12);
+  in.mouse_button(1, false, 310, 290);
+  in.scroll(-1);
+  EXPECT_NEAR(in.command().depth, 10 * ViewerInput::kDepthPerPixel - ViewerInput::kDepthPerNotch, 1e-12);
+  in.mouse_button(0, true, 0, 0, /*over_panel=*/true);  // the panel's click
+  in.cursor(100, 0);
+  EXPECT_NEAR(in.command().yaw, -50 * ViewerInput::kRadiansPerPixel, 1e-12);
+}
+
+TEST(ViewerInput, KeysMoveWhileHeldJawWhileHeldAndOneShotsFireOnce) {
+  ViewerInput in;
+  in.key(ViewerKey::kInsert, true);
+  in.advance(0.5);
+  in.key(ViewerKey::kInsert, false);
+  in.advance(0.5);
+  EXPECT_NEAR(in.command().depth, 0.05 * ViewerInput::kKeyRate * 0.5, 1e-12);
+  in.key(ViewerKey::kJaw, true);
+  EXPECT_EQ(in.command().jaw, 1);
+  in.key(ViewerKey::kJaw, false);
+  EXPECT_EQ(in.command().jaw, 0);
+  EXPECT_EQ(in.key(ViewerKey::kPause, true), ViewerKey::kPause);
+  EXPECT_EQ(in.key(ViewerKey::kPause, true), ViewerKey::kOther);  // auto-repeat
+  EXPECT_FALSE(in.free_camera);
+  in.key(ViewerKey::kToggleCamera, true);
+  EXPECT_TRUE(in.free_camera);
+  // In free-camera mode a left drag orbits the camera, not the instrument.
+  in.orbit.yaw_deg = 0;
+  const double yaw = in.command().yaw;
+  in.mouse_button(0, true, 0, 0);
+  in.cursor(10, 0);
+  EXPECT_EQ(in.command().yaw, yaw);
+  EXPECT_NEAR(in.orbit.yaw_deg, -3, 1e-12);
+}
+
+TEST(ViewerInput, ScriptsAreReadAndBadLinesNamed) {
+  const auto file = std::filesystem::temp_directory_path() / "trocar_events_test.txt";
+  {
+    std::ofstream f(file);
+    f << "# a drag\n0.5 down 0 10 20\n0.6 move 30 20\n\n0.7 up 0 30 20\n0.8 key jaw\n0.9 keyup jaw\n1 scroll -2\n";
+  }
+  const auto events = read_injected_events(file.string());
+  ASSERT_EQ(events.size(), 6u);
+  EXPECT_EQ(events[3].key, ViewerKey::kJaw);
+  EXPECT_EQ(events[5].y, -2);
+  const auto fails = [&](const char* text, const char* says) {
+    { std::ofstream f(file); f << "0.1 move 1 1\n" << text << "\n"; }
+    try {
+      read_injected_events(file.string());
+      ADD_FAILURE() << text;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(says), std::string::npos) << e.what();
+    }
+  };
+  fails("0.2 jump", ":2: unknown event");
+  fails("0.2 key fly", ":2: unknown key");
+  fails("0.05 move 1 1", ":2: times must not decrease");
+  fails("0.2 down 7 1 1", ":2: down needs");
+  fails("soon move 1 1", ":2: expected a time");
+  std::filesystem::remove(file);
+}
+
+}  // namespace
+}  // namespace trocar
