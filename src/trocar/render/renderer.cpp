@@ -215,8 +215,9 @@ void Renderer::draw(const ViewSnapshot& snap, const CameraView& cam, const Rende
   glUniform1f(g.loc(p, "u_texture_scale"), static_cast<float>(12.0 / g.scene_size));
   glUniform1f(g.loc(p, "u_vignette"), o.id_colors ? 0.0f : static_cast<float>(o.vignette));
   glUniform2f(g.loc(p, "u_viewport"), float(width), float(height));
-  const auto material = [&](int mode, const Eigen::Vector3f& base, const Eigen::Vector3f& vessel) {
+  const auto material = [&](int mode, const Eigen::Vector3f& base, const Eigen::Vector3f& vessel, float vessel_strength = 1) {
     glUniform1i(g.loc(p, "u_mode"), o.id_colors ? 2 : mode);
+    glUniform1f(g.loc(p, "u_vessel_strength"), vessel_strength);
     glUniform3fv(g.loc(p, "u_base"), 1, base.data());
     glUniform3fv(g.loc(p, "u_vessel"), 1, vessel.data());
   };
@@ -236,7 +237,7 @@ void Renderer::draw(const ViewSnapshot& snap, const CameraView& cam, const Rende
   }
   for (GpuMesh& r : g.rigids) {
     material(0, o.id_colors ? Eigen::Vector3f(0, 0, 1) : Eigen::Vector3f(0.62f, 0.22f, 0.20f),
-             Eigen::Vector3f(0.78f, 0.62f, 0.55f));  // muscle with pale fascia strands
+             Eigen::Vector3f(0.78f, 0.62f, 0.55f), 0.35f);  // muscle with faint fascia strands
     r.draw();
   }
   for (std::size_t i = 0; i < g.instruments.size() && i < snap.instruments.size(); ++i) {

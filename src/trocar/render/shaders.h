@@ -35,6 +35,7 @@ uniform int u_mode;
 uniform vec3 u_eye;
 uniform vec3 u_base;
 uniform vec3 u_vessel;
+uniform float u_vessel_strength;  // 0..1: how much the vessel colour covers the albedo
 uniform float u_texture_scale;   // noise cells per metre
 uniform float u_light_range;     // m: distance at which the light has fallen to one half
 uniform float u_vignette;        // 0 = none; else the radius (in half-heights) where darkening starts
@@ -92,7 +93,7 @@ void main() {
       float mottling = fbm(p * 0.8);
       albedo = u_base * (0.75 + 0.5 * mottling);
       albedo = mix(albedo, vec3(0.86, 0.70, 0.52), 0.35 * smoothstep(0.62, 0.78, fbm(p * 0.35 + vec3(9.1))));
-      albedo = mix(albedo, u_vessel, vessels(p * 0.5));
+      albedo = mix(albedo, u_vessel, u_vessel_strength * vessels(p * 0.5));
     }
     // Wet tissue under a headlight: Lambert plus a tight, strong highlight (mucosal film) and
     // a weak broad one; light and eye coincide, so the half vector is l.
