@@ -2,9 +2,15 @@
 
 #include <epoxy/egl.h>
 #include <epoxy/gl.h>
+#include <malloc.h>
 #include <png.h>
 
+#include <pthread.h>
+#include <sched.h>
+
 #include <cstdio>
+#include <cstdlib>
+#include <thread>
 #include <string>
 
 #include "trocar/core/error.h"
@@ -17,6 +23,7 @@ struct OffscreenContext::Egl {
   GLuint draw_fbo = 0, draw_color = 0, draw_depth = 0;
   GLuint resolve_fbo = 0, resolve_color = 0;
   std::string description;
+  std::vector<std::uint8_t> rgba;
 };
 
 OffscreenContext::OffscreenContext(int width, int height, int samples)
@@ -98,7 +105,8 @@ void OffscreenContext::read(Image& out) {
   glBindFramebuffer(GL_READ_FRAMEBUFFER, source);
   out.width = width_;
   out.height = height_;
-  std::vector<std::uint8_t> rgba(std::size_t(width_) * std::size_t(height_) * 4);
+  std::vector<std::uint8_t>& rgba = e.rgba;  // kept: no per-frame mmap/munmap of 4 MB (see keep_rendering_off_cpu)
+  rgba.resize(std::size_t(width_) * std::size_t(height_) * 4);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
   glReadPixels(0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
   out.rgb.resize(std::size_t(width_) * std::size_t(height_) * 3);
@@ -107,6 +115,22 @@ void OffscreenContext::read(Image& out) {
       for (int k = 0; k < 3; ++k)
         out.rgb[3 * (std::size_t(y) * width_ + x) + k] = rgba[4 * (std::size_t(height_ - 1 - y) * width_ + x) + k];
   bind();
+}
+
+void keep_rendering_off_cpu(int cpu) {
+  const unsigned n = std::thread::hardware_concurrency();
+  if (n < 2 || cpu < 0 || unsigned(cpu) >= n) return;
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  for (unsigned c = 0; c < n; ++c)
+    if (int(c) != cpu) CPU_SET(c, &set);
+  pthread_setaffinity_np(pthread_self(), sizeof set, &set);
+  setenv("LP_NUM_THREADS", std::to_string(n - 1).c_str(), 0);
+  // Every munmap in this process sends a TLB-shootdown interrupt to each CPU running one of its
+  // threads — the haptic thread's too. Frames allocate and free large buffers (glibc maps blocks
+  // over 128 KB and returns freed heap tops), so keep freed memory in the process instead.
+  mallopt(M_MMAP_THRESHOLD, 256 << 20);
+  mallopt(M_TRIM_THRESHOLD, 1 << 30);
 }
 
 void write_png(const char* path, const Image& image) {

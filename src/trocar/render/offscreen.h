@@ -42,6 +42,11 @@ class OffscreenContext {
   int samples_ = 1;
 };
 
+/// Keeps the calling thread — and the threads Mesa's llvmpipe starts from it, which inherit its
+/// CPU mask — off `cpu` (the haptic thread's), and sets LP_NUM_THREADS to the CPUs left unless the
+/// user set it. Call before creating a GL context. No effect on a single-CPU machine.
+void keep_rendering_off_cpu(int cpu);
+
 /// Writes an image as PNG (libpng). Throws trocar::Error naming the file on failure.
 void write_png(const char* path, const Image& image);
 

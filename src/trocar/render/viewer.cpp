@@ -6,8 +6,6 @@
 #include <backends/imgui_impl_glfw.h>
 #include <backends/imgui_impl_opengl3.h>
 #include <imgui.h>
-#include <pthread.h>
-#include <sched.h>
 
 #include <chrono>
 #include <cstdio>
@@ -38,19 +36,6 @@ constexpr int kHapticCpu = 1;
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-/// Keeps this thread (and the threads llvmpipe starts from it, which inherit its CPU mask) off
-/// the haptic thread's core, so drawing never competes with the haptic loop for its CPU.
-void keep_off_haptic_core() {
-  const unsigned n = std::thread::hardware_concurrency();
-  if (n < 2) return;
-  cpu_set_t set;
-  CPU_ZERO(&set);
-  for (unsigned c = 0; c < n; ++c)
-    if (int(c) != kHapticCpu) CPU_SET(c, &set);
-  pthread_setaffinity_np(pthread_self(), sizeof set, &set);
-  setenv("LP_NUM_THREADS", std::to_string(std::max(1u, n - 1)).c_str(), 0);
 }
 
 /// One run of the scene on the runtime (the viewer restarts it on Apply, Reset and Record).
@@ -267,7 +252,7 @@ int run_viewer(const ViewerOptions& options) {
   std::vector<InjectedEvent> events;
   if (!options.inject.empty()) events = read_injected_events(options.inject.string());
 
-  keep_off_haptic_core();
+  keep_rendering_off_cpu(kHapticCpu);
   glfwSetErrorCallback([](int, const char* what) { std::fprintf(stderr, "trocar view: glfw: %s\n", what); });
   if (!glfwInit())
     throw Error("no display: trocar view needs a window system (set DISPLAY, or run under xvfb-run); "
