@@ -130,6 +130,7 @@ void run(const Options& o) {
     fs_settings.fps = o.fps;
     parse_size(o.size, fs_settings.width, fs_settings.height);
     fs_settings.camera = select_camera(scene.cameras, world, o.camera);
+    fs_settings.textures = scene.textures;
     frames = std::make_unique<FrameRecorder>(world, fs_settings);
     frames->on_step(sim);  // frame 0: the scene at rest
   }

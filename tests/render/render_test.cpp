@@ -2,6 +2,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <memory>
 
 #include "raster_mask.h"
@@ -176,6 +178,67 @@ TEST(Render, FrameRecorderWritesOnePngPerFrameTime) {
   EXPECT_GT(std::filesystem::file_size(rec.frame_path(5)), 100u);
   EXPECT_THROW(select_camera(f.scene.cameras, f.sim->world(), "nope"), Error);
   std::filesystem::remove_all(s.dir);
+}
+
+}  // namespace
+}  // namespace trocar
+
+namespace trocar {
+namespace {
+
+TEST(Render, MeshUvsMapTheScenesTexture) {
+  // A 4 × 4 cm sheet in the xy-plane with u along x; its texture is green on the left half and
+  // blue on the right. Seen from above, the sheet's left half renders green, its right half blue.
+  const auto dir = std::filesystem::temp_directory_path() / "trocar_uv_test";
+  std::filesystem::create_directories(dir);
+  Image tex;
+  tex.width = 64;
+  tex.height = 8;
+  tex.rgb.resize(64 * 8 * 3);
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 64; ++x) {
+      std::uint8_t* p = &tex.rgb[3 * std::size_t(y * 64 + x)];
+      p[0] = 0, p[1] = x < 32 ? 220 : 0, p[2] = x < 32 ? 0 : 220;
+    }
+  write_png((dir / "halves.png").c_str(), tex);
+  EXPECT_EQ(read_png((dir / "halves.png").c_str()).rgb, tex.rgb);
+  {
+    std::ofstream obj(dir / "sheet.obj");
+    obj << "v -0.02 -0.02 0\nv 0.02 -0.02 0\nv 0.02 0.02 0\nv -0.02 0.02 0\n"
+           "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nf 1/1 2/2 3/3\nf 1/1 3/3 4/4\n";
+  }
+  const std::string text = R"({"schema": 1, "gravity": [0, 0, 0],
+    "tissues": [{"name": "sheet", "mesh": "sheet.obj", "texture": "halves.png",
+                 "fixed": {"indices": [0, 1, 2, 3]}}],
+    "camera": {"port": [0, 0, 0.2], "target": [0, 0, 0], "insertion": 0.1, "up": [0, 1, 0], "fov_deg": 40}})";
+  Scene scene = parse_scene(text, "uv.json", dir);
+  ASSERT_EQ(scene.textures.size(), 1u);
+  const std::vector<CameraSpec> cameras = scene.cameras;
+  const std::vector<std::filesystem::path> textures = scene.textures;
+  Simulation sim(std::move(scene.world), scene.settings);
+  ASSERT_EQ(sim.world().tissues[0]->texcoords.size(), 6u);
+  OffscreenContext ctx(kWidth, kHeight, 1);
+  Renderer renderer(sim.world(), textures);
+  ViewSnapshot snap;
+  capture_view(sim, snap);
+  const CameraView cam = make_camera_view(select_camera(cameras, sim.world(), "scope"), double(kWidth) / kHeight);
+  RenderOptions o;
+  o.vignette = 0;
+  o.gauge = false;
+  const Image img = render(ctx, renderer, snap, cam, o);
+  const Eigen::Vector3d left = cam.project(Vec3(-0.01, 0, 0), kWidth, kHeight);
+  const Eigen::Vector3d right = cam.project(Vec3(0.01, 0, 0), kWidth, kHeight);
+  const std::uint8_t* l = img.at(int(left.x()), int(left.y()));
+  const std::uint8_t* r = img.at(int(right.x()), int(right.y()));
+  // Seen head-on under the headlight the sheet also carries a white highlight, added to both.
+  EXPECT_GT(int(l[1]), int(l[2]) + 40) << int(l[0]) << " " << int(l[1]) << " " << int(l[2]);
+  EXPECT_GT(int(r[2]), int(r[1]) + 40) << int(r[0]) << " " << int(r[1]) << " " << int(r[2]);
+  // A texture on a mesh without UVs, or a missing image, is a scene error naming the key.
+  EXPECT_THROW(parse_scene(R"({"schema": 1, "tissues": [{"mesh": {"generate": "icosphere", "radius": 0.02}, "texture": "halves.png"}]})",
+                           "uv.json", dir), Error);
+  EXPECT_THROW(parse_scene(R"({"schema": 1, "tissues": [{"mesh": "sheet.obj", "texture": "none.png"}]})",
+                           "uv.json", dir), Error);
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

@@ -32,7 +32,7 @@ FrameRecorder::FrameRecorder(const World& world, const FrameSettings& settings) 
   std::filesystem::create_directories(settings_.dir, ec);
   if (ec) throw Error(settings_.dir.string() + ": cannot create the frames folder: " + ec.message());
   context_ = std::make_unique<OffscreenContext>(settings_.width, settings_.height, settings_.samples);
-  renderer_ = std::make_unique<Renderer>(world);
+  renderer_ = std::make_unique<Renderer>(world, settings_.textures);
   view_ = make_camera_view(settings_.camera, double(settings_.width) / double(settings_.height));
 }
 

@@ -28,6 +28,7 @@ struct FrameSettings {
   CameraSpec camera;              ///< from select_camera
   RenderOptions options;          ///< overlays
   int samples = 4;                ///< multisampling
+  std::vector<std::filesystem::path> textures;  ///< per tissue (Scene::textures)
 };
 
 /// Renders a Simulation's frames as it steps.

@@ -156,3 +156,25 @@ void write_png(const char* path, const Image& image) {
 }
 
 }  // namespace trocar
+
+namespace trocar {
+
+Image read_png(const char* path) {
+  png_image png{};
+  png.version = PNG_IMAGE_VERSION;
+  if (!png_image_begin_read_from_file(&png, path))
+    throw Error(std::string(path) + ": cannot read the PNG: " + png.message);
+  png.format = PNG_FORMAT_RGB;
+  Image img;
+  img.width = int(png.width);
+  img.height = int(png.height);
+  img.rgb.resize(PNG_IMAGE_SIZE(png));
+  if (!png_image_finish_read(&png, nullptr, img.rgb.data(), 0, nullptr)) {
+    const std::string why = png.message;
+    png_image_free(&png);
+    throw Error(std::string(path) + ": cannot decode the PNG: " + why);
+  }
+  return img;
+}
+
+}  // namespace trocar

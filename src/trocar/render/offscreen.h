@@ -49,5 +49,8 @@ void keep_rendering_off_cpu(int cpu);
 
 /// Writes an image as PNG (libpng). Throws trocar::Error naming the file on failure.
 void write_png(const char* path, const Image& image);
+/// Reads a PNG of any colour type as RGB (libpng's simplified API). Throws trocar::Error naming
+/// the file and libpng's reason.
+Image read_png(const char* path);
 
 }  // namespace trocar

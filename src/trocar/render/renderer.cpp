@@ -10,6 +10,7 @@
 #include <Eigen/Geometry>
 
 #include "trocar/core/error.h"
+#include "trocar/render/offscreen.h"
 #include "trocar/render/shaders.h"
 
 namespace trocar {
@@ -108,6 +109,76 @@ struct GpuMesh {
   }
 };
 
+/// A tissue drawn with the mesh's own UVs: UVs are per triangle corner, so the GPU gets one
+/// vertex per corner, gathered from the deformed positions and smooth normals every frame.
+struct TexturedMesh {
+  GLuint vao = 0, positions = 0, normals = 0, texcoords = 0, texture = 0;
+  std::vector<Triangle> triangles;
+  std::vector<float> vertex_normals_xyz, corner_positions, corner_normals;
+
+  void create(const std::vector<Vec3>& rest, const std::vector<Triangle>& tris, const std::vector<Vec2>& uv,
+              const Image& image) {
+    triangles = tris;
+    glGenVertexArrays(1, &vao);
+    glBindVertexArray(vao);
+    const std::size_t n = 3 * tris.size();
+    const auto buffer = [&](GLuint& id, GLuint location, GLsizeiptr bytes, const void* data, GLenum use) {
+      glGenBuffers(1, &id);
+      glBindBuffer(GL_ARRAY_BUFFER, id);
+      glBufferData(GL_ARRAY_BUFFER, bytes, data, use);
+      glEnableVertexAttribArray(location);
+      glVertexAttribPointer(location, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+    };
+    std::vector<float> st(3 * n);
+    for (std::size_t c = 0; c < n; ++c) {
+      st[3 * c] = float(uv[c].x());
+      st[3 * c + 1] = float(1.0 - uv[c].y());  // image rows go top to bottom, v goes up
+      st[3 * c + 2] = 0;
+    }
+    buffer(positions, 0, GLsizeiptr(3 * n * sizeof(float)), nullptr, GL_DYNAMIC_DRAW);
+    buffer(normals, 1, GLsizeiptr(3 * n * sizeof(float)), nullptr, GL_DYNAMIC_DRAW);
+    buffer(texcoords, 2, GLsizeiptr(st.size() * sizeof(float)), st.data(), GL_STATIC_DRAW);
+    glBindVertexArray(0);
+    glGenTextures(1, &texture);
+    glBindTexture(GL_TEXTURE_2D, texture);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_SRGB8, image.width, image.height, 0, GL_RGB, GL_UNSIGNED_BYTE, image.rgb.data());
+    glGenerateMipmap(GL_TEXTURE_2D);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    update(rest);
+  }
+  void update(const std::vector<Vec3>& x) {
+    vertex_normals(x, triangles, vertex_normals_xyz);
+    corner_positions.resize(9 * triangles.size());
+    corner_normals.resize(9 * triangles.size());
+    for (std::size_t t = 0; t < triangles.size(); ++t)
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t v = triangles[t][k];
+        for (int d = 0; d < 3; ++d) {
+          corner_positions[9 * t + 3 * k + d] = float(x[v][d]);
+          corner_normals[9 * t + 3 * k + d] = vertex_normals_xyz[3 * v + d];
+        }
+      }
+    glBindBuffer(GL_ARRAY_BUFFER, positions);
+    glBufferSubData(GL_ARRAY_BUFFER, 0, GLsizeiptr(corner_positions.size() * sizeof(float)), corner_positions.data());
+    glBindBuffer(GL_ARRAY_BUFFER, normals);
+    glBufferSubData(GL_ARRAY_BUFFER, 0, GLsizeiptr(corner_normals.size() * sizeof(float)), corner_normals.data());
+  }
+  void draw() const {
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, texture);
+    glBindVertexArray(vao);
+    glDrawArrays(GL_TRIANGLES, 0, GLsizei(3 * triangles.size()));
+  }
+  void destroy() {
+    const GLuint buffers[] = {positions, normals, texcoords};
+    glDeleteBuffers(3, buffers);
+    glDeleteVertexArrays(1, &vao);
+    glDeleteTextures(1, &texture);
+  }
+};
+
 Eigen::Matrix4f pose_matrix(const Pose& pose) {
   Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
   m.block<3, 3>(0, 0) = pose.rotation_matrix();
@@ -138,6 +209,7 @@ struct Renderer::Gpu {
   GLuint mesh_program = 0, overlay_program = 0;
   GLuint overlay_vao = 0, overlay_vbo = 0;
   std::vector<GpuMesh> tissues, instruments, rigids;
+  std::vector<std::unique_ptr<TexturedMesh>> textured;  // per tissue: null = procedural texture
   std::vector<float> lines;  // overlay scratch
   Real scene_size = 0.1;
 
@@ -157,7 +229,8 @@ struct Renderer::Gpu {
   }
 };
 
-Renderer::Renderer(const World& world) : gpu_(std::make_unique<Gpu>()) {
+Renderer::Renderer(const World& world, const std::vector<std::filesystem::path>& textures)
+    : gpu_(std::make_unique<Gpu>()) {
   Gpu& g = *gpu_;
   g.mesh_program = link(shaders::kMeshVertex, shaders::kMeshFragment, "mesh");
   g.overlay_program = link(shaders::kOverlayVertex, shaders::kOverlayFragment, "overlay");
@@ -169,8 +242,15 @@ Renderer::Renderer(const World& world) : gpu_(std::make_unique<Gpu>()) {
   glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
   glBindVertexArray(0);
   Vec3 lo = Vec3::Constant(1e30), hi = Vec3::Constant(-1e30);
-  for (const auto& t : world.tissues) {
+  for (std::size_t i = 0; i < world.tissues.size(); ++i) {
+    const TissueBody* t = world.tissues[i].get();
     g.tissues.emplace_back().create(t->settings.rest_positions, t->settings.triangles, GL_DYNAMIC_DRAW);
+    g.textured.emplace_back();
+    if (i < textures.size() && !textures[i].empty() && !t->texcoords.empty()) {
+      g.textured.back() = std::make_unique<TexturedMesh>();
+      g.textured.back()->create(t->settings.rest_positions, t->settings.triangles, t->texcoords,
+                                read_png(textures[i].c_str()));
+    }
     for (const Vec3& p : t->settings.rest_positions) {
       lo = lo.cwiseMin(p);
       hi = hi.cwiseMax(p);
@@ -190,6 +270,8 @@ Renderer::~Renderer() {
   Gpu& g = *gpu_;
   for (auto* list : {&g.tissues, &g.instruments, &g.rigids})
     for (GpuMesh& m : *list) m.destroy();
+  for (auto& m : g.textured)
+    if (m) m->destroy();
   glDeleteBuffers(1, &g.overlay_vbo);
   glDeleteVertexArrays(1, &g.overlay_vao);
   glDeleteProgram(g.mesh_program);
@@ -230,7 +312,15 @@ void Renderer::draw(const ViewSnapshot& snap, const CameraView& cam, const Rende
   model(Eigen::Matrix4f::Identity());
   for (std::size_t t = 0; t < g.tissues.size() && t < snap.tissues.size(); ++t) {
     if (snap.tissues[t].size() * 3 != g.tissues[t].scratch_positions.size()) continue;
+    if (g.textured[t]) {
+      g.textured[t]->update(snap.tissues[t]);
+      material(3, o.id_colors ? Eigen::Vector3f(1, 0, 0) : Eigen::Vector3f(1, 1, 1), Eigen::Vector3f::Zero());
+      glUniform1i(g.loc(p, "u_texture"), 0);
+      g.textured[t]->draw();
+      if (!o.wireframe) continue;
+    }
     g.tissues[t].update(snap.tissues[t]);
+    if (g.textured[t]) continue;  // updated for the wireframe pass only
     material(0, o.id_colors ? Eigen::Vector3f(1, 0, 0) : Eigen::Vector3f(0.80f, 0.36f, 0.33f),
              Eigen::Vector3f(0.42f, 0.04f, 0.07f));
     g.tissues[t].draw();

@@ -5,6 +5,7 @@
 /// vessels) on its rest positions and the wet look of a headlight; instruments are steel. Needs a
 /// current GL context (render/offscreen.h or a window) for its whole life.
 #include <cstdint>
+#include <filesystem>
 #include <memory>
 #include <vector>
 
@@ -36,7 +37,9 @@ class Renderer {
  public:
   /// Uploads the world's static geometry (instrument meshes, rigids, tissue topology). Throws
   /// trocar::Error when a shader does not compile (the driver's log in the message).
-  explicit Renderer(const World& world);
+  /// `textures`: per tissue, a PNG mapped by the mesh's UVs (empty path: the procedural texture;
+  /// Scene::textures). Throws trocar::Error naming an image that cannot be read.
+  explicit Renderer(const World& world, const std::vector<std::filesystem::path>& textures = {});
   ~Renderer();
   Renderer(const Renderer&) = delete;
   Renderer& operator=(const Renderer&) = delete;

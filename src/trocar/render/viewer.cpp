@@ -42,6 +42,7 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 struct Session {
   std::string name;
   std::vector<CameraSpec> cameras;
+  std::vector<fs::path> textures;
   std::unique_ptr<Simulation> sim;
   std::unique_ptr<RecordingWriter> recorder;
   fs::path recording;
@@ -115,6 +116,7 @@ struct Viewer {
     auto next = std::make_unique<Session>();
     next->name = scene.name;
     next->cameras = scene.cameras;
+    next->textures = scene.textures;
     next->scene_text = text;
     next->timestep = scene.timestep;
     devices = scene.devices;
@@ -143,7 +145,7 @@ struct Viewer {
     session = std::move(next);
     input.set_command(PortCommand{});
     session->launch(options, devices, input.command());
-    renderer = std::make_unique<Renderer>(session->sim->world());
+    renderer = std::make_unique<Renderer>(session->sim->world(), session->textures);
     live.recording = record;
     live.recording_path = session->recording.string();
     live.device = session->device;

@@ -100,7 +100,8 @@ IntegratorKind read_integrator(const JsonReader& obj) {
 }
 
 void read_tissue(const JsonReader& t, std::size_t index, Scene& scene, const std::filesystem::path& dir) {
-  t.expect_keys({"name", "mesh", "scale", "translate", "rotate_deg", "repair", "material", "fixed", "integrator"});
+  t.expect_keys({"name", "mesh", "scale", "translate", "rotate_deg", "repair", "material", "fixed", "integrator",
+                 "texture"});
   const std::string name = name_or(t, "tissue", index);
   const TriMesh file_mesh = placed_mesh(t, dir);
   const MassSpringMaterial material = t.has("material") ? read_material(t.at("material")) : MassSpringMaterial{};
@@ -117,6 +118,14 @@ void read_tissue(const JsonReader& t, std::size_t index, Scene& scene, const std
   } catch (const Error& e) {
     t.fail(e.what());
   }
+  std::filesystem::path texture;
+  if (t.has("texture")) {
+    const JsonReader tex = t.at("texture");
+    texture = dir / tex.string();
+    if (!std::filesystem::is_regular_file(texture)) tex.fail(texture.string() + ": no such image");
+    if (file_mesh.texcoords.empty()) tex.fail("the mesh has no texture coordinates (OBJ vt, PLY u/v) to map it with");
+  }
+  scene.textures.push_back(std::move(texture));
 }
 
 KeyframeMotion read_motion(const JsonReader& m) {

@@ -29,6 +29,9 @@ struct Scene {
   std::vector<DeviceSpec> devices;
   /// "camera": one object or a list of them (empty: the renderer frames the scene itself).
   std::vector<CameraSpec> cameras;
+  /// Per tissue (same index): its "texture" image (PNG, resolved against the scene's folder), or
+  /// empty for the renderer's procedural tissue texture. Used only where the mesh has UVs.
+  std::vector<std::filesystem::path> textures;
 };
 
 /// Reads and validates a scene file. Every key is checked: an unknown key, a wrong type, a

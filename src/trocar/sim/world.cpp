@@ -11,6 +11,7 @@ TissueBody::TissueBody(std::string body_name, const TriMesh& world_mesh, const M
       state(MassSpringState::at_rest(settings)),
       integrator(settings, kind),
       energy(settings) {
+  if (world_mesh.texcoords.size() == 3 * world_mesh.triangles.size()) texcoords = world_mesh.texcoords;
   // One ContactJacobian per applied contact; 8192 covers a tool buried in a fine mesh, so the
   // response does not grow the array inside a step.
   loads.reset(settings.vertex_count(), 8192);

@@ -25,6 +25,9 @@ struct TissueBody {
   MassSpringIntegrator integrator;   ///< steps `state`
   ElasticEnergyMeter energy;         ///< the per-step elastic energy metric
   TissueLoads loads;                 ///< external forces of the current step (N)
+  /// The mesh's (u, v) per triangle corner (3 per settings.triangles entry, same order), for a
+  /// renderer's texture; empty when the mesh has none.
+  std::vector<Vec2> texcoords;
 
   /// Builds the model from a mesh already placed in the world (metres).
   TissueBody(std::string body_name, const TriMesh& world_mesh, const MassSpringMaterial& material,
