@@ -14,7 +14,7 @@ void add_view_command(CLI::App& app, int& exit_code) {
   struct Options {
     std::string scene, camera = "scope", screenshot, report, inject, record_dir = "out", size = "1280x720";
     double rate = 1000, quit_after = 0;
-    int drive = 0;
+    int drive = 0, samples = 4;
     bool no_panel = false, no_realtime = false;
   };
   auto o = std::make_shared<Options>();
@@ -30,6 +30,8 @@ void add_view_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--report", o->report, "Write a JSON report (frame rate, haptic rate, misses) when quitting");
   cmd->add_option("--inject", o->inject, "Play a script of mouse and key events (docs/render.md)");
   cmd->add_option("--record-dir", o->record_dir, "Folder for session recordings (the Record button; default out)");
+  cmd->add_option("--samples", o->samples, "Multisampling (default 4; 0 is twice as fast under Mesa's llvmpipe)")
+      ->check(CLI::Range(0, 16));
   cmd->add_flag("--no-panel", o->no_panel, "Hide the settings panel");
   cmd->add_flag("--no-realtime-scheduling", o->no_realtime, "Do not ask for SCHED_FIFO and CPU pinning");
   cmd->callback([o, &exit_code]() {
@@ -54,6 +56,7 @@ void add_view_command(CLI::App& app, int& exit_code) {
     v.inject = o->inject;
     v.record_dir = o->record_dir;
     v.panel = !o->no_panel;
+    v.samples = o->samples;
     v.realtime_scheduling = !o->no_realtime;
     exit_code = run_viewer(v);
 #else

@@ -263,7 +263,7 @@ int run_viewer(const ViewerOptions& options) {
   glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
   glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
   glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
-  glfwWindowHint(GLFW_SAMPLES, 4);
+  glfwWindowHint(GLFW_SAMPLES, options.samples);
   v.window = glfwCreateWindow(options.width, options.height, ("trocar — " + options.scene.filename().string()).c_str(),
                               nullptr, nullptr);
   if (!v.window) {
@@ -389,6 +389,8 @@ int run_viewer(const ViewerOptions& options) {
         {"wall_time_s", wall},
         {"fps", wall > 0 ? double(frames) / wall : 0},
         {"size", {options.width, options.height}},
+        {"samples", options.samples},
+        {"renderer", std::string(reinterpret_cast<const char*>(glGetString(GL_RENDERER)))},
         {"haptic",
          {{"rate_nominal_hz", options.haptic_rate_hz},
           {"rate_hz", r.rate_hz},

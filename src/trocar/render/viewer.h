@@ -23,6 +23,7 @@ struct ViewerOptions {
   std::filesystem::path report;     ///< JSON: frames, frame rate, haptic rate, misses, instrument travel
   std::filesystem::path inject;     ///< event script (viewer_input.h) played as if from the window
   std::filesystem::path record_dir = "out";  ///< where Record writes session recordings
+  int samples = 4;                  ///< multisampling of the window (0: none; halves the cost under llvmpipe)
   bool panel = true;                ///< show the settings panel
   bool realtime_scheduling = true;  ///< SCHED_FIFO and pinning for the runtime's threads
 };
