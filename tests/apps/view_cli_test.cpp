@@ -107,7 +107,7 @@ TEST(ViewCli, OpensUnderXvfbRunsTwoSecondsAndTakesAScreenshot) {
   EXPECT_GE(j["frames"].get<int>(), 3);
   EXPECT_GE(j["wall_time_s"].get<double>(), 2.0);
   // The haptic loop ran at its rate with the window open.
-  EXPECT_NEAR(j["haptic"]["rate_hz"].get<double>(), 1000, 50);
+  EXPECT_NEAR(j["haptic"]["rate_hz"].get<double>(), 1000, 100);
   EXPECT_GT(j["physics"]["steps"].get<int>(), 1000);
   // The screenshot is not blank: a flat image compresses to far less.
   EXPECT_GT(fs::file_size(shot), 20000u);

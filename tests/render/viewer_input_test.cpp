@@ -1,11 +1,15 @@
-// The viewer's event mapping (render/viewer_input.h) and its event scripts.
+// The viewer's event mapping (render/viewer_input.h), its event scripts, and the panel's scene edits.
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 
 #include "trocar/core/error.h"
 #include "trocar/render/viewer_input.h"
+#include "trocar/render/viewer_panel.h"
+#include "trocar/scene/scene.h"
+#include "trocar/tissue/material.h"
 
 namespace trocar {
 namespace {
@@ -83,6 +87,38 @@ TEST(ViewerInput, ScriptsAreReadAndBadLinesNamed) {
   fails("0.2 down 7 1 1", ":2: down needs");
   fails("soon move 1 1", ":2: expected a time");
   std::filesystem::remove(file);
+}
+
+}  // namespace
+}  // namespace trocar
+
+
+namespace trocar {
+namespace {
+
+TEST(ViewerPanel, EditsStartFromTheSceneAndApplyAsAValidScene) {
+  std::ifstream in(std::string(TROCAR_TEST_SCENES) + "/hernia.json");
+  nlohmann::json doc = nlohmann::json::parse(in);
+  SceneEdits e = edits_from(doc, 0);
+  ASSERT_EQ(e.tissues.size(), 1u);
+  const MassSpringMaterial peritoneum = material_preset("peritoneum");
+  EXPECT_FLOAT_EQ(e.tissues[0].k_structural, float(peritoneum.k_structural));  // the preset's value
+  EXPECT_EQ(e.tissues[0].integrator, 2);    // implicit-euler
+  EXPECT_EQ(e.method, 0);                   // obb
+  EXPECT_FLOAT_EQ(e.stiffness, 500);
+  EXPECT_FLOAT_EQ(e.timestep, 0.001f);
+  e.tissues[0].k_structural = 1234;
+  e.method = 1;        // sdf
+  e.broad_phase = 1;   // bvh
+  e.timestep = 0.002f;
+  apply_edits(doc, e, 0);
+  const Scene scene = parse_scene(doc.dump(), "edited.json", TROCAR_TEST_SCENES);
+  EXPECT_EQ(scene.settings.response.method, ResponseMethod::kSdf);
+  EXPECT_EQ(scene.settings.broad_phase, BroadPhaseKind::kBvh);
+  EXPECT_NEAR(scene.timestep, 0.002, 1e-9);
+  EXPECT_NEAR(scene.settings.collision_period, 0.002, 1e-9);
+  EXPECT_NEAR(scene.world.tissues[0]->settings.springs[0].stiffness, 1234, 1e-3);
+  EXPECT_EQ(edits_from(doc, 0).tissues[0].k_structural, 1234);
 }
 
 }  // namespace
