@@ -157,6 +157,34 @@ TEST(ViewCli, InjectedMouseDragPivotsTheInstrumentAboutItsPort) {
   EXPECT_NEAR((end - k.pivot()).norm(), k.start_depth() + 0.004, 1e-3);
 }
 
+TEST(ViewCli, PauseStepResetAndARecordingThatReplays) {
+  Xvfb x;
+  if (!x.running()) GTEST_SKIP() << "Xvfb cannot start here";
+  const fs::path events = temp("keys.txt"), report = temp("keys.json"), out = temp("recordings");
+  fs::remove_all(out);
+  {
+    std::ofstream e(events);
+    e << "0.3 key pause\n0.35 keyup pause\n0.4 key step\n0.45 keyup step\n0.5 key pause\n0.55 keyup pause\n"
+         "0.6 key reset\n0.65 keyup reset\n"
+         "0.8 key record\n0.85 keyup record\n"  // restarts the scene with a recording
+         "1.0 down 0 600 300\n1.2 move 640 330\n1.3 up 0 640 330\n1.4 key jaw\n1.6 keyup jaw\n"
+         "1.8 key record\n1.85 keyup record\n";  // stops it; the scene goes on
+  }
+  const auto r = run_program("DISPLAY=" + x.display() + " " TROCAR_CLI,
+                             "view " + kScenes + "/grasp_lift.json --no-panel --quit-after 2.3 --inject " +
+                                 events.string() + " --record-dir " + out.string() + " --report " + report.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const nlohmann::json j = read_json(report);
+  EXPECT_EQ(j["events_played"].get<int>(), 17);
+  const fs::path rec = j["last_recording"].get<std::string>();
+  ASSERT_TRUE(fs::exists(rec)) << rec;
+  EXPECT_EQ(rec.parent_path(), out);
+  // The recorded session (a mouse drag and a jaw closing) replays to the same state, bit for bit.
+  const auto replay = run_program(TROCAR_CLI, "replay " + rec.string());
+  EXPECT_EQ(replay.exit_code, 0) << replay.output;
+  EXPECT_NE(replay.output.find("identical"), std::string::npos) << replay.output;
+}
+
 TEST(ViewCli, SaysSoWithoutADisplay) {
   const auto r = run_program("env -u DISPLAY -u WAYLAND_DISPLAY " TROCAR_CLI, "view " + kScenes + "/hernia.json --quit-after 1");
   EXPECT_EQ(r.exit_code, 1) << r.output;

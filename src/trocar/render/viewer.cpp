@@ -41,7 +41,9 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 /// One run of the scene on the runtime (the viewer restarts it on Apply, Reset and Record).
 struct Session {
   std::string name;
-  std::vector<CameraSpec> cameras;
+  CameraSpec camera;     // the one --camera names, chosen before the runtime starts (the
+                         // default camera reads the world, which physics then owns)
+  CameraSpec orbit;      // the free camera's start
   std::vector<fs::path> textures;
   std::unique_ptr<Simulation> sim;
   std::unique_ptr<RecordingWriter> recorder;
@@ -107,7 +109,7 @@ struct Viewer {
   std::unique_ptr<Renderer> renderer;
   std::unique_ptr<Session> session;
   std::vector<DeviceSpec> devices;
-  std::string timestep_note;
+  fs::path last_recording;  // the last session recording finished
 
   /// Builds the scene from the (edited) document and starts it; a bad edit keeps the old session.
   void start(bool record) {
@@ -115,7 +117,7 @@ struct Viewer {
     Scene scene = parse_scene(text, options.scene.string(), options.scene.parent_path());
     auto next = std::make_unique<Session>();
     next->name = scene.name;
-    next->cameras = scene.cameras;
+    const std::vector<CameraSpec> cameras = scene.cameras;
     next->textures = scene.textures;
     next->scene_text = text;
     next->timestep = scene.timestep;
@@ -128,6 +130,8 @@ struct Viewer {
     }
     scene.settings.measure_penetration = false;  // exact metrics are for studies, not the live loop
     next->sim = std::make_unique<Simulation>(std::move(scene.world), scene.settings);
+    next->camera = select_camera(cameras, next->sim->world(), options.camera);
+    next->orbit = default_orbit_camera(next->sim->world());
     if (record) {
       fs::create_directories(options.record_dir);
       char stamp[32];
@@ -155,6 +159,7 @@ struct Viewer {
   /// Ends a recording without resetting: the scene goes on on a fresh runtime.
   void stop_recording() {
     session->finish();
+    last_recording = session->recording;
     live.status = "saved " + session->recording.string() + " (trocar replay checks it)";
     session->launch(options, devices, input.command());
     live.recording = false;
@@ -162,8 +167,7 @@ struct Viewer {
 
   CameraView camera(int w, int h) const {
     if (input.free_camera) return make_camera_view(input.orbit, double(w) / double(std::max(h, 1)));
-    return make_camera_view(select_camera(session->cameras, session->sim->world(), options.camera),
-                            double(w) / double(std::max(h, 1)));
+    return make_camera_view(session->camera, double(w) / double(std::max(h, 1)));
   }
 };
 
@@ -182,6 +186,7 @@ ViewerKey glfw_key(int key) {
     case GLFW_KEY_P: return ViewerKey::kPause;
     case GLFW_KEY_N: return ViewerKey::kStep;
     case GLFW_KEY_R: return ViewerKey::kReset;
+    case GLFW_KEY_F9: return ViewerKey::kRecord;
     default: return ViewerKey::kOther;
   }
 }
@@ -198,6 +203,9 @@ void handle_key_action(Viewer& v, ViewerKey action) {
     v.session->runtime->step_once();
   } else if (action == ViewerKey::kReset) {
     v.start(false);
+  } else if (action == ViewerKey::kRecord) {
+    if (v.live.recording) v.stop_recording();
+    else v.start(true);
   }
 }
 
@@ -286,7 +294,7 @@ int run_viewer(const ViewerOptions& options) {
   nlohmann::json report;
   try {
     v.start(false);
-    v.input.orbit = default_orbit_camera(v.session->sim->world());
+    v.input.orbit = v.session->orbit;
     const auto t0 = std::chrono::steady_clock::now();
     auto last = t0;
     std::size_t next_event = 0, frames = 0, fps_frames = 0;
@@ -360,10 +368,7 @@ int run_viewer(const ViewerOptions& options) {
         if (a.step) handle_key_action(v, ViewerKey::kStep);
         if (a.camera) v.input.free_camera = !v.input.free_camera;
         if (a.reset) v.start(false);
-        if (a.record) {
-          if (v.live.recording) v.stop_recording();
-          else v.start(true);
-        }
+        if (a.record) handle_key_action(v, ViewerKey::kRecord);
         if (a.apply) {
           nlohmann::json edited = v.doc;
           apply_edits(edited, v.edits, options.drive);
@@ -382,6 +387,7 @@ int run_viewer(const ViewerOptions& options) {
     }
     const double wall = seconds_since(t0);
     v.session->finish();
+    if (!v.session->recording.empty()) v.last_recording = v.session->recording;
     const RuntimeReport& r = v.session->report;
     report = {
         {"scene", v.session->name},
@@ -412,6 +418,7 @@ int run_viewer(const ViewerOptions& options) {
             {"roll", v.input.command().roll},
             {"jaw", v.input.command().jaw}}}}},
         {"events_played", next_event},
+        {"last_recording", v.last_recording.string()},
     };
   } catch (...) {
     if (v.session) v.session->finish();

@@ -57,7 +57,7 @@ ViewerKey ViewerInput::key(ViewerKey k, bool down) {
     changed_ = true;
   }
   if (down && !was && (k == ViewerKey::kToggleCamera || k == ViewerKey::kPause || k == ViewerKey::kStep ||
-                       k == ViewerKey::kReset)) {
+                       k == ViewerKey::kReset || k == ViewerKey::kRecord)) {
     if (k == ViewerKey::kToggleCamera) free_camera = !free_camera;
     return k;
   }
@@ -85,7 +85,7 @@ ViewerKey viewer_key_from_name(const std::string& name) {
       {"yaw-right", ViewerKey::kYawRight},  {"pitch-up", ViewerKey::kPitchUp},    {"pitch-down", ViewerKey::kPitchDown},
       {"roll-left", ViewerKey::kRollLeft},  {"roll-right", ViewerKey::kRollRight}, {"jaw", ViewerKey::kJaw},
       {"camera", ViewerKey::kToggleCamera}, {"pause", ViewerKey::kPause},         {"step", ViewerKey::kStep},
-      {"reset", ViewerKey::kReset}};
+      {"reset", ViewerKey::kReset},         {"record", ViewerKey::kRecord}};
   for (const auto& [n, k] : names)
     if (name == n) return k;
   return ViewerKey::kOther;

@@ -12,7 +12,7 @@ namespace trocar {
 
 /// Mouse buttons and the keys the viewer uses (values independent of GLFW).
 enum class ViewerKey { kInsert, kRetract, kYawLeft, kYawRight, kPitchUp, kPitchDown, kRollLeft, kRollRight, kJaw,
-                       kToggleCamera, kPause, kStep, kReset, kOther };
+                       kToggleCamera, kPause, kStep, kReset, kRecord, kOther };
 
 /// Event-to-motion mapping.
 class ViewerInput {
@@ -28,7 +28,7 @@ class ViewerInput {
   void cursor(double x, double y);
   void scroll(double notches, bool over_panel = false);
   /// A key went down or up; returns the key's action for one-shot keys (pause, step, reset,
-  /// camera) on the press, kOther otherwise.
+  /// record, camera) on the press, kOther otherwise.
   ViewerKey key(ViewerKey k, bool down);
   /// Held keys move the instrument at kKeyRate over dt seconds.
   void advance(double dt);
@@ -68,7 +68,7 @@ struct InjectedEvent {
 std::vector<InjectedEvent> read_injected_events(const std::string& file);
 
 /// Key names of the scripts: insert, retract, yaw-left, yaw-right, pitch-up, pitch-down,
-/// roll-left, roll-right, jaw, camera, pause, step, reset.
+/// roll-left, roll-right, jaw, camera, pause, step, reset, record.
 ViewerKey viewer_key_from_name(const std::string& name);
 
 }  // namespace trocar
