@@ -157,6 +157,28 @@ TEST(ViewCli, InjectedMouseDragPivotsTheInstrumentAboutItsPort) {
   EXPECT_NEAR((end - k.pivot()).norm(), k.start_depth() + 0.004, 1e-3);
 }
 
+TEST(ViewCli, RealXMouseEventsThroughGlfwDriveTheInstrument) {
+  Xvfb x;
+  if (!x.running()) GTEST_SKIP() << "Xvfb cannot start here";
+  if (run_program("command -v", "xdotool").exit_code != 0) GTEST_SKIP() << "xdotool is not installed";
+  const fs::path report = temp("xdotool.json");
+  // The X server delivers the events to GLFW, whose callbacks feed the same mapping: a left drag
+  // from (640, 360) to (700, 390) gives yaw −60 · 0.004 and pitch 30 · 0.004 rad.
+  const std::string script =
+      "export DISPLAY=" + x.display() + "; " TROCAR_CLI " view " + kScenes +
+      "/probe_press_slide.json --quit-after 4 --report " + report.string() +
+      " & sleep 1.5; w=$(xdotool search --sync --name trocar | head -1); xdotool windowmove $w 0 0; sleep 0.3;"
+      " xdotool mousemove --sync 640 360; sleep 0.1; xdotool mousedown 1; sleep 0.1;"
+      " xdotool mousemove --sync 670 375; sleep 0.05; xdotool mousemove --sync 700 390; sleep 0.1;"
+      " xdotool mouseup 1; wait";
+  const auto r = run_program("sh -c", "'" + script + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const nlohmann::json j = read_json(report);
+  EXPECT_NEAR(j["driven_instrument"]["command"]["yaw"].get<double>(), -0.24, 1e-9) << j.dump(2);
+  EXPECT_NEAR(j["driven_instrument"]["command"]["pitch"].get<double>(), 0.12, 1e-9);
+  EXPECT_GT(j["driven_instrument"]["travel_m"].get<double>(), 0.01);
+}
+
 TEST(ViewCli, PauseStepResetAndARecordingThatReplays) {
   Xvfb x;
   if (!x.running()) GTEST_SKIP() << "Xvfb cannot start here";
