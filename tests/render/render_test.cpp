@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -82,7 +83,9 @@ TEST(Render, IdPassMatchesProjectedGeometryOfEveryShippedScene) {
     // The scene's scope sees both the organ and the instrument, each over a fair part of the frame.
     EXPECT_GT(tissue, std::size_t(kWidth * kHeight) / 40);
     EXPECT_GT(instrument, 40u);
-    EXPECT_GE(agreement(mask, img, false), 0.95);
+    const double a = agreement(mask, img, false);
+    std::printf("%s: id pass agrees with the projected geometry on %.2f %% of its pixels\n", file, 100 * a);
+    EXPECT_GE(a, 0.95);
   }
 }
 
@@ -97,7 +100,9 @@ TEST(Render, ShadedFrameCoversTheGeometryAndIsNotFlat) {
   o.vignette = 0;
   const Image img = render(ctx, renderer, snap, f.camera, o);
   const test::LabelImage mask = test::project_labels(f.sim->world(), snap, f.camera, kWidth, kHeight);
-  EXPECT_GE(agreement(mask, img, true), 0.95);
+  const double cover = agreement(mask, img, true);
+  std::printf("shaded frame covers the projected geometry on %.2f %% of its pixels\n", 100 * cover);
+  EXPECT_GE(cover, 0.95);
   // Lighting varies across the organ: a headlight gives a bright highlight and darker flanks.
   double sum = 0, sum2 = 0, lo = 255, hi = 0;
   std::size_t n = 0;
@@ -113,6 +118,7 @@ TEST(Render, ShadedFrameCoversTheGeometryAndIsNotFlat) {
   ASSERT_GT(n, 1000u);
   const double mean = sum / double(n);
   const double sd = std::sqrt(std::max(0.0, sum2 / double(n) - mean * mean));
+  std::printf("organ luminance: mean %.1f, sd %.1f, range %.0f..%.0f\n", mean, sd, lo, hi);
   EXPECT_GT(sd / mean, 0.12) << "mean " << mean << " sd " << sd;
   EXPECT_GT(hi - lo, 100) << lo << " .. " << hi;
   EXPECT_GT(red, 1.3 * green);  // tissue is red, not grey
@@ -155,6 +161,7 @@ TEST(Render, PressingChangesTheFrameWhereItPresses) {
       ++changed;
       if (std::hypot(x + 0.5 - c.x(), y + 0.5 - c.y()) < radius) ++near;
     }
+  std::printf("pressing changed %zu tissue pixels, %zu of them within %.0f px of the contact\n", changed, near, radius);
   EXPECT_GT(changed, 60u);
   EXPECT_GE(double(near), 0.9 * double(changed)) << near << " of " << changed << " changed pixels near the contact";
 }
