@@ -54,7 +54,6 @@ struct Session {
   PortDevice* port = nullptr;
   std::string device;
   ViewSnapshot first;  // drawn until the runtime publishes
-  std::string scene_text;
   double timestep = 1e-3;  // the scene's "timestep": the physics thread's step
 
   void launch(const ViewerOptions& o, const std::vector<DeviceSpec>& devices, const PortCommand& command) {
@@ -119,14 +118,14 @@ struct Viewer {
     next->name = scene.name;
     const std::vector<CameraSpec> cameras = scene.cameras;
     next->textures = scene.textures;
-    next->scene_text = text;
     next->timestep = scene.timestep;
-    devices = scene.devices;
-    if (options.drive >= 0 && std::size_t(options.drive) < devices.size() && !devices[std::size_t(options.drive)].given) {
-      devices[std::size_t(options.drive)].given = true;
-      devices[std::size_t(options.drive)].driver = "mouse";
-      devices[std::size_t(options.drive)].where = options.scene.string() + ": instruments[" +
-                                                  std::to_string(options.drive) + "] (viewer mouse)";
+    std::vector<DeviceSpec> next_devices = scene.devices;
+    if (options.drive >= 0 && std::size_t(options.drive) < next_devices.size() &&
+        !next_devices[std::size_t(options.drive)].given) {
+      DeviceSpec& d = next_devices[std::size_t(options.drive)];
+      d.given = true;
+      d.driver = "mouse";
+      d.where = options.scene.string() + ": instruments[" + std::to_string(options.drive) + "] (viewer mouse)";
     }
     scene.settings.measure_penetration = false;  // exact metrics are for studies, not the live loop
     next->sim = std::make_unique<Simulation>(std::move(scene.world), scene.settings);
@@ -147,6 +146,7 @@ struct Viewer {
     if (session) session->finish();
     renderer.reset();
     session = std::move(next);
+    devices = std::move(next_devices);
     input.set_command(PortCommand{});
     session->launch(options, devices, input.command());
     renderer = std::make_unique<Renderer>(session->sim->world(), session->textures);
