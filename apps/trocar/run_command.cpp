@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "frame_size.h"
 #include "realtime_command.h"
 #include "trocar/core/error.h"
 #include "trocar/scene/scene.h"
@@ -44,23 +45,6 @@ struct Options {
   std::string size = "1280x720";
   std::string camera = "scope";
 };
-
-/// "WxH" → width, height (each 16…8192).
-void parse_size(const std::string& text, int& width, int& height) {
-  const auto x = text.find('x');
-  try {
-    if (x == std::string::npos) throw std::invalid_argument(text);
-    std::size_t used = 0;
-    width = std::stoi(text.substr(0, x), &used);
-    if (used != x) throw std::invalid_argument(text);
-    height = std::stoi(text.substr(x + 1), &used);
-    if (used != text.size() - x - 1) throw std::invalid_argument(text);
-  } catch (const std::logic_error&) {
-    throw Error("--size: \"" + text + "\" is not WIDTHxHEIGHT (e.g. 1280x720)");
-  }
-  if (width < 16 || height < 16 || width > 8192 || height > 8192)
-    throw Error("--size: " + text + ": each side must be 16 to 8192 pixels");
-}
 
 /// median, p99 and max of samples (0 for none).
 nlohmann::json summary(std::vector<double> v) {
@@ -128,7 +112,7 @@ void run(const Options& o) {
     FrameSettings fs_settings;
     fs_settings.dir = !o.frames.empty() ? fs::path(o.frames) : fs::path(o.video + ".frames");
     fs_settings.fps = o.fps;
-    parse_size(o.size, fs_settings.width, fs_settings.height);
+    parse_frame_size(o.size, "--size", fs_settings.width, fs_settings.height);
     fs_settings.camera = select_camera(scene.cameras, world, o.camera);
     fs_settings.textures = scene.textures;
     frames = std::make_unique<FrameRecorder>(world, fs_settings);

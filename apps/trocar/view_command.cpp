@@ -3,6 +3,7 @@
 #include <memory>
 #include <string>
 
+#include "frame_size.h"
 #include "trocar/core/error.h"
 #ifdef TROCAR_HAVE_VIEWER
 #include "trocar/render/viewer.h"
@@ -38,15 +39,7 @@ void add_view_command(CLI::App& app, int& exit_code) {
 #ifdef TROCAR_HAVE_VIEWER
     ViewerOptions v;
     v.scene = o->scene;
-    const auto x = o->size.find('x');
-    try {
-      if (x == std::string::npos) throw std::invalid_argument(o->size);
-      v.width = std::stoi(o->size.substr(0, x));
-      v.height = std::stoi(o->size.substr(x + 1));
-    } catch (const std::logic_error&) {
-      throw Error("--size: \"" + o->size + "\" is not WIDTHxHEIGHT");
-    }
-    if (v.width < 64 || v.height < 64 || v.width > 8192 || v.height > 8192) throw Error("--size: out of range");
+    parse_frame_size(o->size, "--size", v.width, v.height);
     v.camera = o->camera;
     v.haptic_rate_hz = o->rate;
     v.drive = o->drive;

@@ -1,5 +1,7 @@
 #include "trocar/core/pose.h"
 
+#include <cmath>
+
 #include <numbers>
 
 namespace trocar {
@@ -32,6 +34,15 @@ Pose Pose::inverse() const {
 
 Pose Pose::operator*(const Pose& other) const {
   return {(rotation * other.rotation).normalized(), rotation * other.translation + translation};
+}
+
+Vec3 orthogonal_towards(const Vec3& axis, const Vec3& hint) {
+  Vec3 u = hint - hint.dot(axis) * axis;
+  if (u.norm() < 1e-6) {
+    const Vec3 other = std::abs(axis.x()) < 0.9 ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
+    u = other - other.dot(axis) * axis;
+  }
+  return u.normalized();
 }
 
 }  // namespace trocar

@@ -29,4 +29,9 @@ struct Pose {
   Mat3 rotation_matrix() const { return rotation.toRotationMatrix(); }
 };
 
+/// The unit vector orthogonal to the unit `axis` closest to `hint` (Gram–Schmidt); when the hint
+/// is parallel to the axis, the one closest to x (or y, for an axis along x). Cameras and the
+/// port pivot build their frames with it.
+Vec3 orthogonal_towards(const Vec3& axis, const Vec3& hint);
+
 }  // namespace trocar

@@ -19,12 +19,7 @@ std::int64_t steady_ns() {
 PortKinematics::PortKinematics(const Pose& start, const Vec3& shaft, const Vec3& pivot, const Vec3& up)
     : start_(start), shaft_(shaft.normalized()), pivot_(pivot) {
   depth0_ = std::max<Real>(0, (pivot_ - start_.translation).dot(shaft_));
-  up_ = up - up.dot(shaft_) * shaft_;
-  if (up_.norm() < 1e-6) {
-    const Vec3 other = std::abs(shaft_.x()) < 0.9 ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
-    up_ = other - other.dot(shaft_) * shaft_;
-  }
-  up_.normalize();
+  up_ = orthogonal_towards(shaft_, up);
   side_ = shaft_.cross(up_);
 }
 

@@ -11,17 +11,6 @@ namespace {
 
 constexpr Real kDeg = std::numbers::pi / 180.0;
 
-/// A unit vector orthogonal to `axis`, as close to `hint` as possible (another axis when the
-/// hint is parallel to it).
-Vec3 orthogonal_towards(const Vec3& axis, const Vec3& hint) {
-  Vec3 u = hint - hint.dot(axis) * axis;
-  if (u.norm() < 1e-6) {
-    const Vec3 other = std::abs(axis.x()) < 0.9 ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
-    u = other - other.dot(axis) * axis;
-  }
-  return u.normalized();
-}
-
 /// gluLookAt: rows are the eye's right, up and backward axes.
 Eigen::Matrix4f look_at(const Vec3& eye, const Vec3& forward, const Vec3& up) {
   const Vec3 f = forward.normalized();
@@ -127,7 +116,19 @@ CameraSpec default_camera(const World& world) {
   s.name = "scope";
   s.kind = CameraKind::kLaparoscope;
   s.fov_deg = 70;
-  const Real distance = b.radius / std::sin(0.5 * s.fov_deg * kDeg) * 1.05;
+  // The nearest eye that sees every tissue vertex within the vertical field (so within the wider
+  // horizontal one too): a vertex at height h off the axis and a ahead of the centre needs the eye
+  // h / tan(fov/2) + a from the centre; 5 % margin. The bounding sphere alone frames elongated
+  // organs at a quarter of the frame or less.
+  const Real t = std::tan(0.5 * s.fov_deg * kDeg);
+  Real distance = 0;
+  for (const auto& tissue : world.tissues)
+    for (const Vec3& p : tissue->state.positions) {
+      const Vec3 r = p - b.centre;
+      const Real ahead = r.dot(from);
+      distance = std::max(distance, (r - ahead * from).norm() / t + ahead);
+    }
+  distance = 1.05 * std::max(distance, b.radius / t * 0.1);
   s.target = b.centre;
   s.port = b.centre + 2 * distance * from;
   s.insertion = distance;

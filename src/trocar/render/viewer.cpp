@@ -32,7 +32,7 @@ namespace trocar {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr int kHapticCpu = 1;
+const int kHapticCpu = RuntimeSettings{}.haptic_cpu;  // the runtime's default
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -236,6 +236,16 @@ void play(Viewer& v, const InjectedEvent& e) {
   }
 }
 
+/// GL objects first, while the context is current; then ImGui, the window, GLFW.
+void close_window(Viewer& v) {
+  v.renderer.reset();
+  ImGui_ImplOpenGL3_Shutdown();
+  ImGui_ImplGlfw_Shutdown();
+  ImGui::DestroyContext();
+  glfwDestroyWindow(v.window);
+  glfwTerminate();
+}
+
 Image read_window(int w, int h) {
   Image img;
   img.width = w;
@@ -290,7 +300,6 @@ int run_viewer(const ViewerOptions& options) {
   ImGui_ImplGlfw_InitForOpenGL(v.window, true);
   ImGui_ImplOpenGL3_Init("#version 330");
 
-  int status = 0;
   nlohmann::json report;
   try {
     v.start(false);
@@ -422,20 +431,10 @@ int run_viewer(const ViewerOptions& options) {
     };
   } catch (...) {
     if (v.session) v.session->finish();
-    v.renderer.reset();
-    ImGui_ImplOpenGL3_Shutdown();
-    ImGui_ImplGlfw_Shutdown();
-    ImGui::DestroyContext();
-    glfwDestroyWindow(v.window);
-    glfwTerminate();
+    close_window(v);
     throw;
   }
-  v.renderer.reset();
-  ImGui_ImplOpenGL3_Shutdown();
-  ImGui_ImplGlfw_Shutdown();
-  ImGui::DestroyContext();
-  glfwDestroyWindow(v.window);
-  glfwTerminate();
+  close_window(v);
   if (!options.report.empty()) {
     std::ofstream out(options.report);
     if (!out) throw Error(options.report.string() + ": cannot write the viewer report");
@@ -445,7 +444,7 @@ int run_viewer(const ViewerOptions& options) {
               report["scene"].get<std::string>().c_str(), report["frames"].get<std::size_t>(),
               report["wall_time_s"].get<double>(), report["fps"].get<double>(),
               report["haptic"]["rate_hz"].get<double>(), 100 * report["haptic"]["deadline_miss_fraction"].get<double>());
-  return status;
+  return 0;
 }
 
 }  // namespace trocar

@@ -30,7 +30,7 @@ struct ViewerOptions {
 
 /// Opens the window and runs until it is closed (or quit_after). Throws trocar::Error when there
 /// is no display ("no display: ... use trocar run --frames for headless frames") or the scene is bad.
-/// Returns the process exit status.
+/// Returns 0 (failures throw).
 int run_viewer(const ViewerOptions& options);
 
 }  // namespace trocar
