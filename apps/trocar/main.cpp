@@ -3,6 +3,7 @@
 #include <iostream>
 
 #include "bench_command.h"
+#include "mesh_build_command.h"
 #include "mesh_command.h"
 #include "realtime_command.h"
 #include "run_command.h"
@@ -14,6 +15,7 @@ int main(int argc, char** argv) {
   CLI::App app{"trocar: real-time simulation of laparoscopic instruments on deformable organs"};
   app.require_subcommand(1);
   int exit_code = 0;
+  trocar::cli::install_scene_mesh_builder();  // scenes may name volumes to build (modelling module)
   trocar::cli::add_mesh_command(app, exit_code);
   trocar::cli::add_bench_command(app, exit_code);
   trocar::cli::add_run_command(app, exit_code);

@@ -1,5 +1,7 @@
 #include "mesh_command.h"
 
+#include "mesh_build_command.h"
+
 #include <cstdio>
 #include <iostream>
 #include <memory>
@@ -235,7 +237,7 @@ void add_generate(CLI::App& mesh_app, std::shared_ptr<GenerateArgs> a) {
 }  // namespace
 
 void add_mesh_command(CLI::App& app, int& exit_code) {
-  CLI::App* mesh = app.add_subcommand("mesh", "Inspect, repair and generate triangle meshes");
+  CLI::App* mesh = app.add_subcommand("mesh", "Inspect, repair, generate and build (from volumes) triangle meshes");
   mesh->require_subcommand(1);
 
   auto info_args = std::make_shared<InfoArgs>();
@@ -263,6 +265,7 @@ void add_mesh_command(CLI::App& app, int& exit_code) {
   rep->callback([repair_args] { run_repair(*repair_args); });
 
   add_generate(*mesh, std::make_shared<GenerateArgs>());
+  add_mesh_build_commands(*mesh, exit_code);
 }
 
 }  // namespace trocar::cli

@@ -41,10 +41,25 @@ inline std::string shared_absent(std::string_view file) {
          (shared_data_hidden() ? " hidden (TROCAR_HIDE_SHARED)" : " absent (no ../shared/data/meshes)");
 }
 
+/// The path of one shared image volume (../shared/data/volumes, beside the meshes folder), or
+/// nothing when it is absent or hidden.
+inline std::optional<std::filesystem::path> shared_volume_path(std::string_view file) {
+  if (shared_data_hidden()) return std::nullopt;
+  std::filesystem::path path = std::filesystem::path(TROCAR_SHARED_MESHES_DEFAULT).parent_path() / "volumes" / file;
+  if (!std::filesystem::exists(path)) return std::nullopt;
+  return path;
+}
+
 }  // namespace trocar::test
 
 /// Declares `const std::filesystem::path var` for the shared mesh `file`, or skips the test.
 #define TROCAR_SHARED_MESH_OR_SKIP(var, file)                                        \
   const std::optional<std::filesystem::path> var##_found = ::trocar::test::shared_mesh_path(file); \
   if (!var##_found) GTEST_SKIP() << ::trocar::test::shared_absent(file);             \
+  const std::filesystem::path& var = *var##_found
+
+/// Declares `const std::filesystem::path var` for the shared volume `file`, or skips the test.
+#define TROCAR_SHARED_VOLUME_OR_SKIP(var, file)                                        \
+  const std::optional<std::filesystem::path> var##_found = ::trocar::test::shared_volume_path(file); \
+  if (!var##_found) GTEST_SKIP() << "shared volume " << (file) << " absent or hidden";  \
   const std::filesystem::path& var = *var##_found

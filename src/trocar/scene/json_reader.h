@@ -42,6 +42,7 @@ class JsonReader {
   bool is_object() const { return value_->is_object(); }   ///< JSON object
   bool is_string() const { return value_->is_string(); }   ///< JSON string
   bool is_number() const { return value_->is_number(); }   ///< JSON number
+  bool is_null() const { return value_->is_null(); }       ///< JSON null
 
   /// A number (fails on another type or a non-finite value).
   Real number() const;

@@ -1,5 +1,6 @@
 #include "trocar/scene/mesh_source.h"
 
+#include <atomic>
 #include <system_error>
 
 #include "trocar/core/error.h"
@@ -76,9 +77,24 @@ TriMesh make_generated_mesh(const JsonReader& spec) {
   kind.fail("unknown generator \"" + name + "\" (known: " + names + ")");
 }
 
+namespace {
+std::atomic<VolumeMeshBuilder> volume_builder{nullptr};
+}  // namespace
+
+void set_volume_mesh_builder(VolumeMeshBuilder builder) { volume_builder.store(builder); }
+
 TriMesh load_mesh_source(const JsonReader& mesh, const std::filesystem::path& scene_dir) {
+  if (mesh.is_object() && mesh.has("build")) {
+    const VolumeMeshBuilder builder = volume_builder.load();
+    if (builder == nullptr) {
+      mesh.at("build").fail("this trocar was built without the modelling module, so it cannot build a mesh from a "
+                            "volume (install libvtk9-dev and libinsighttoolkit5-dev and rebuild: docs/build.md), or "
+                            "build it with `trocar mesh build` and name the mesh file");
+    }
+    return builder(mesh, scene_dir);
+  }
   if (mesh.is_object()) return make_generated_mesh(mesh);
-  if (!mesh.is_string()) mesh.fail("must be a file path or an object {\"generate\": ...}");
+  if (!mesh.is_string()) mesh.fail("must be a file path, an object {\"generate\": ...} or {\"build\": VOLUME, ...}");
   const std::filesystem::path path = scene_dir / mesh.string();
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) mesh.fail("file not found: " + path.string());

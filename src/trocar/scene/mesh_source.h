@@ -25,8 +25,16 @@ const std::vector<MeshGenerator>& mesh_generators();
 /// naming the key path for an unknown kind or a bad parameter.
 TriMesh make_generated_mesh(const JsonReader& spec);
 
+/// Builds a mesh from an image volume a scene names (`"mesh": {"build": "liver.nii.gz", ...}`),
+/// in metres. The optional modelling module (trocar::modelling, which the core does not link)
+/// installs one; without it such a scene fails with a message saying so.
+using VolumeMeshBuilder = TriMesh (*)(const JsonReader& spec, const std::filesystem::path& scene_dir);
+
+/// Installs the volume builder (nullptr removes it). Call before loading scenes.
+void set_volume_mesh_builder(VolumeMeshBuilder builder);
+
 /// The "mesh" value of a scene object: a path string (relative to `scene_dir`; OBJ, STL, PLY,
-/// VRML, VTK) or a generator object. Throws trocar::Error naming the key path when the file is
+/// VRML, VTK), a generator object, or a volume to build ({"build": ...}). Throws trocar::Error naming the key path when the file is
 /// missing or unreadable.
 TriMesh load_mesh_source(const JsonReader& mesh, const std::filesystem::path& scene_dir);
 

@@ -1,0 +1,59 @@
+#pragma once
+/// From a binary mask to a closed organ surface: keep the wanted components, pad, optionally
+/// pre-smooth, extract (flying edges), smooth without shrinking (windowed sinc), decimate
+/// (quadric) to a triangle budget, keep the largest surface. The chain 3D Slicer uses to turn
+/// segmentations into closed surface models (docs/modelling.md).
+#include <cstddef>
+#include <functional>
+#include <string>
+
+#include "trocar/mesh/tri_mesh.h"
+#include "trocar/modelling/label_select.h"
+#include "trocar/modelling/volume.h"
+
+namespace trocar {
+
+/// How the surface is made.
+struct SurfaceOptions {
+  std::size_t target_triangles = 6000;  ///< decimate to about this many (0: no decimation)
+  int smooth_iterations = 20;           ///< windowed-sinc iterations (0: no smoothing)
+  /// Windowed-sinc pass band: Slicer's smoothing factor f gives 10^(−4f); its default f = 0.5.
+  Real smooth_passband = 0.01;
+  /// Gaussian pre-smoothing of the mask before extraction, standard deviation (m); 0: none.
+  /// Softens the staircase of thick slices; extraction then runs at the 0.5 level.
+  Real presmooth_sigma = 0;
+  /// Keep only the largest 6-connected component of the mask (else every component of at
+  /// least `min_component_voxels`).
+  bool largest_component_only = true;
+  std::size_t min_component_voxels = 8;  ///< smallest kept component (and smallest organ)
+};
+
+/// Seconds each stage took.
+struct SurfaceTimes {
+  double components = 0;  ///< connected components of the mask
+  double extract = 0;     ///< padding, pre-smoothing and flying edges
+  double smooth = 0;      ///< windowed sinc
+  double decimate = 0;    ///< quadric decimation
+  double clean = 0;       ///< largest surface, compaction, world mapping
+};
+
+/// What extract_surface() made.
+struct Surface {
+  TriMesh raw;                   ///< the extracted surface before smoothing and decimation (world, m)
+  TriMesh mesh;                  ///< the final surface (world, m), outward
+  std::size_t kept_voxels = 0;     ///< voxels of the kept components
+  std::size_t components = 0;      ///< 6-connected components in the mask
+  std::size_t components_kept = 0; ///< of them, kept
+  std::string decimator;           ///< "quadric", "pro (...)" (the fallback) or "none"
+  SurfaceTimes times;              ///< seconds per stage
+};
+
+/// Called with a stage name and the fraction done of it (0..1).
+using ProgressFn = std::function<void(const std::string& stage, double fraction)>;
+
+/// Makes the surface of `mask` on `volume`'s grid. Throws FileError naming volume.source when
+/// the kept part is smaller than min_component_voxels or the surface comes out empty.
+Surface extract_surface(const Volume& volume, const Mask& mask, const SurfaceOptions& options,
+                        const ProgressFn& progress = {});
+
+}  // namespace trocar
