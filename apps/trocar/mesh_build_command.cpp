@@ -34,6 +34,7 @@ struct BuildArgs {
   double presmooth_mm = 0;
   bool all_components = false;
   std::size_t min_component_voxels = 8;
+  int stride = 0;
   std::size_t texture_size = 256;
   bool no_texture = false;
   std::string report;
@@ -100,6 +101,7 @@ void run_build(const BuildArgs& a) {
   options.surface.presmooth_sigma = a.presmooth_mm * 1e-3;
   options.surface.largest_component_only = !a.all_components;
   options.surface.min_component_voxels = a.min_component_voxels;
+  options.surface.extract_stride = a.stride;
   options.texture_chart_pixels = a.no_texture ? 0 : a.texture_size;
   check_writable_dir(a.output);
   if (!a.report.empty()) check_writable_dir(a.report);
@@ -118,8 +120,8 @@ void run_build(const BuildArgs& a) {
   if (!a.quiet) {
     const auto& s = report.at("seconds");
     std::printf("%s: %s -> %s\n", a.volume.c_str(), build.mask.what.c_str(), a.output.c_str());
-    std::printf("  triangles %zu (raw %zu), genus %d, closed, manifold, outward\n", build.mesh.triangle_count(),
-                build.surface.raw.triangle_count(), build.genus);
+    std::printf("  triangles %zu (full-resolution surface %zu, extraction stride %d), genus %d, closed, manifold, outward\n",
+                build.mesh.triangle_count(), build.surface.raw.triangle_count(), build.surface.stride, build.genus);
     std::printf("  volume %.2f cm3 (voxels %.2f cm3, %+.2f %%)\n", build.mesh_volume * 1e6, build.voxel_volume * 1e6,
                 report.at("volume_error_percent").get<double>());
     std::printf("  distance to the raw surface: mean %.3f mm, max %.3f mm (%.2f voxels)\n", build.distance.mean * 1e3,
@@ -198,6 +200,7 @@ void add_mesh_build_commands(CLI::App& mesh, int& exit_code) {
   build->add_option("--presmooth", a->presmooth_mm, "Gaussian pre-smoothing of the mask, sigma (mm; 0: none)")->check(CLI::NonNegativeNumber)->capture_default_str();
   build->add_flag("--all-components", a->all_components, "Keep every component of at least --min-component-voxels, not only the largest");
   build->add_option("--min-component-voxels", a->min_component_voxels, "Smallest component kept")->check(CLI::Range(std::size_t{1}, std::size_t{1} << 40))->capture_default_str();
+  build->add_option("--stride", a->stride, "Extraction grid stride (0: auto, coarser only when the surface would far exceed the budget; 1: full resolution)")->check(CLI::Range(0, 8))->capture_default_str();
   build->add_option("--texture-size", a->texture_size, "Texels per atlas chart side (the PNG is 3x2 charts)")->check(CLI::Range(8, 4096))->capture_default_str();
   build->add_flag("--no-texture", a->no_texture, "No UVs and no texture");
   build->add_option("--report", a->report, "Write the build report (JSON)");

@@ -34,7 +34,9 @@ OrganBuild build_organ(const Volume& volume, const OrganBuildOptions& options, c
   OrganBuild b;
   b.mask = select_mask(volume, options.query);
   b.organ = !b.mask.name.empty() ? b.mask.name : b.mask.label != 0 ? "label " + std::to_string(b.mask.label) : "tissue";
-  b.surface = extract_surface(volume, b.mask, options.surface, progress);
+  SurfaceOptions surface_options = options.surface;
+  surface_options.reference_surface = surface_options.reference_surface && options.measure_distance;
+  b.surface = extract_surface(volume, b.mask, surface_options, progress);
   b.mask.inside.clear();
   b.mask.inside.shrink_to_fit();
   b.mesh = std::move(b.surface.mesh);
@@ -53,7 +55,7 @@ OrganBuild build_organ(const Volume& volume, const OrganBuildOptions& options, c
   TriMesh copy = b.mesh;
   b.repair_changes = repair(copy).summary().size();
   b.genus = genus(b.mesh);
-  if (options.measure_distance) b.distance = surface_distance(b.mesh, b.surface.raw);
+  if (options.measure_distance && !b.surface.raw.empty()) b.distance = surface_distance(b.mesh, b.surface.raw);
   b.shape = shape_quality(b.mesh);
   b.seconds_quality = seconds_since(t0);
   if (!b.closed || !b.manifold || !b.outward || b.defects != 0 || b.repair_changes != 0) {
@@ -94,6 +96,7 @@ nlohmann::json build_report(const OrganBuild& b, const Volume& volume) {
       {"components", b.surface.components},
       {"components_kept", b.surface.components_kept},
       {"decimator", b.surface.decimator},
+      {"extract_stride", b.surface.stride},
       {"triangles", b.mesh.triangle_count()},
       {"vertices", b.mesh.vertex_count()},
       {"raw_triangles", b.surface.raw.triangle_count()},

@@ -110,7 +110,7 @@ Phantom touching_blobs_phantom(Real voxel) {
 Phantom edge_phantom(Real voxel) {
   const Real r = 0.018;
   const auto n = static_cast<std::size_t>(std::ceil(2 * (r + 3 * voxel) / voxel)) + 1;
-  const std::array<std::size_t, 3> dims{n, n, n / 2};
+  const std::array<std::size_t, 3> dims{n, n, n};
   // The sphere's centre lies 4 voxels above the first slice's centre, so the first slice cuts it.
   const Vec3 origin = centred_origin({n, n, n}, voxel).cwiseProduct(Vec3(1, 1, 0)) + Vec3(0, 0, -4 * voxel);
   Phantom p;

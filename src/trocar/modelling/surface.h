@@ -1,7 +1,7 @@
 #pragma once
 /// From a binary mask to a closed organ surface: keep the wanted components, pad, optionally
 /// pre-smooth, extract (flying edges), smooth without shrinking (windowed sinc), decimate
-/// (quadric) to a triangle budget, keep the largest surface. The chain 3D Slicer uses to turn
+/// (topology-preserving edge collapse) to a triangle budget, keep the largest surface. The chain 3D Slicer uses to turn
 /// segmentations into closed surface models (docs/modelling.md).
 #include <cstddef>
 #include <functional>
@@ -26,6 +26,13 @@ struct SurfaceOptions {
   /// least `min_component_voxels`).
   bool largest_component_only = true;
   std::size_t min_component_voxels = 8;  ///< smallest kept component (and smallest organ)
+  /// Extraction grid stride: 0 = auto (coarser when the full-resolution surface would exceed
+  /// ~6× the triangle budget, near-isotropic voxels only), 1 = full resolution, s = every s-th
+  /// voxel of the block-averaged mask.
+  int extract_stride = 0;
+  /// Also extract the full-resolution surface as the reference for the distance figures (it
+  /// is the extracted surface itself when the stride is 1).
+  bool reference_surface = true;
 };
 
 /// Seconds each stage took.
@@ -33,18 +40,21 @@ struct SurfaceTimes {
   double components = 0;  ///< connected components of the mask
   double extract = 0;     ///< padding, pre-smoothing and flying edges
   double smooth = 0;      ///< windowed sinc
-  double decimate = 0;    ///< quadric decimation
+  double decimate = 0;    ///< edge-collapse decimation
   double clean = 0;       ///< largest surface, compaction, world mapping
 };
 
 /// What extract_surface() made.
 struct Surface {
-  TriMesh raw;                   ///< the extracted surface before smoothing and decimation (world, m)
+  /// The full-resolution extracted surface (world, m): the reference the distances are measured
+  /// against; empty when the stride was > 1 and reference_surface was off.
+  TriMesh raw;
   TriMesh mesh;                  ///< the final surface (world, m), outward
   std::size_t kept_voxels = 0;     ///< voxels of the kept components
   std::size_t components = 0;      ///< 6-connected components in the mask
   std::size_t components_kept = 0; ///< of them, kept
-  std::string decimator;           ///< "quadric", "pro (...)" (the fallback) or "none"
+  int stride = 1;                  ///< extraction grid stride used
+  std::string decimator;           ///< how it was decimated, or "none"
   SurfaceTimes times;              ///< seconds per stage
 };
 

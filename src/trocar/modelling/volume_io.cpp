@@ -23,6 +23,7 @@
 
 #include "trocar/core/error.h"
 #include "trocar/modelling/volume.h"
+#include "trocar/modelling/volume_checks.h"
 
 namespace trocar {
 namespace {
@@ -112,6 +113,9 @@ Volume read_volume(const std::filesystem::path& path) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) fail(file, "no such file");
   register_readers();
+  const bool nifti = ends_with(file, ".nii") || ends_with(file, ".nii.gz");
+  if (nifti) check_nifti_file(file);
+  if (ends_with(file, ".mha") || ends_with(file, ".mhd")) check_metaimage_file(file);
   itk::ImageIOBase::Pointer io = itk::ImageIOFactory::CreateImageIO(file.c_str(), itk::IOFileModeEnum::ReadMode);
   if (!io) {
     fail(file, "unknown volume format (trocar reads NIfTI .nii/.nii.gz, NRRD .nrrd/.nhdr/.seg.nrrd and "
@@ -167,7 +171,7 @@ Volume read_volume(const std::filesystem::path& path) {
     }
   }
   read_slicer_segments(io->GetMetaDataDictionary(), v);
-  if (ends_with(file, ".nii") || ends_with(file, ".nii.gz")) read_nifti_label_table(file, v);
+  if (nifti) read_nifti_label_table(file, v);
   return v;
 }
 

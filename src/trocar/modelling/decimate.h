@@ -1,0 +1,17 @@
+#pragma once
+/// Topology-safe decimation: edge collapses that never make a surface non-manifold.
+#include <cstddef>
+
+#include "trocar/mesh/tri_mesh.h"
+
+namespace trocar {
+
+/// Collapses edges of a closed manifold mesh until it has at most `target_triangles`, by
+/// Lindstrom–Turk cost and placement (volume- and shape-preserving quadric optimisation;
+/// CGAL's Surface_mesh_simplification). Every collapse is checked against the link condition,
+/// so the result keeps the input's topology: closed, manifold, same genus. A bounded-normal-
+/// change filter refuses collapses that would flip a triangle. Stops early where no collapse
+/// is allowed (a tiny genus-g surface cannot go below its minimal triangulation).
+TriMesh decimate_preserving_topology(const TriMesh& mesh, std::size_t target_triangles);
+
+}  // namespace trocar
