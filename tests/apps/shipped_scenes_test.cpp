@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -124,9 +125,16 @@ TEST(ShippedScenes, StabRunsStablyWithNoFarSurfaceContactApplied) {
   EXPECT_EQ(r.far_contacts_applied, 0u);
 }
 
-/// The CLI's own verdict: `trocar run SCENE --duration 2 --report FILE` says `stable: true`.
+/// The CLI's own verdict: `trocar run SCENE --duration 2 --report FILE` says `stable: true`;
+/// built_liver builds its organ from a volume (the modelling module), in a private cache.
 TEST(ShippedScenes, TrocarRunReportsStable) {
-  for (const char* name : {"hernia", "probe_press_slide", "grasp_lift", "stab"}) {
+  std::vector<const char*> names{"hernia", "probe_press_slide", "grasp_lift", "stab"};
+#if TROCAR_HAVE_MODELLING
+  names.push_back("built_liver");
+  const std::filesystem::path cache = std::filesystem::temp_directory_path() / "trocar_shipped_cache";
+  ::setenv("TROCAR_CACHE_DIR", cache.c_str(), 1);
+#endif
+  for (const char* name : names) {
     const std::filesystem::path report =
         std::filesystem::temp_directory_path() / ("trocar_shipped_" + std::string(name) + ".json");
     const std::string cmd = std::string(TROCAR_CLI) + " run " + kScenes + "/" + name + ".json --duration 2 --report " +

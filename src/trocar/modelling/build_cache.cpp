@@ -1,5 +1,8 @@
 #include "trocar/modelling/build_cache.h"
 
+#include <unistd.h>
+
+#include <atomic>
 #include <cstdlib>
 #include <fstream>
 #include <system_error>
@@ -18,6 +21,8 @@ namespace {
 /// Bumped whenever the pipeline's output for the same input changes, so old cache entries
 /// are not reused.
 constexpr const char* kPipelineVersion = "trocar-organ-1";
+
+std::atomic<unsigned> staging_counter{0};
 
 std::string md5_hex(const std::vector<std::string>& parts) {
   vtksysMD5* md5 = vtksysMD5_New();
@@ -122,16 +127,17 @@ TriMesh build_scene_mesh(const JsonReader& spec, const std::filesystem::path& sc
     try {
       const Volume volume = read_volume(volume_path);
       const OrganBuild build = build_organ(volume, options);
-      // Written under a temporary name and renamed, so a concurrent reader never sees half a file.
-      std::filesystem::create_directories(cached.parent_path(), ec);
-      const std::filesystem::path temp = cached.parent_path() / (key + ".tmp" + std::to_string(std::rand()) + ".obj");
-      write_organ(build, temp);
-      std::filesystem::rename(std::filesystem::path(temp).replace_extension(".png"),
-                              std::filesystem::path(cached).replace_extension(".png"), ec);
-      std::filesystem::rename(std::filesystem::path(temp).replace_extension(".mtl"),
-                              std::filesystem::path(cached).replace_extension(".mtl"), ec);
-      std::filesystem::rename(temp, cached, ec);
-      if (ec) std::filesystem::remove(temp, ec);
+      // Written into a private folder with the final names (the OBJ names its MTL, the MTL its
+      // PNG), then renamed into place, the OBJ last: a concurrent reader sees a whole entry or none.
+      const std::filesystem::path staging =
+          cached.parent_path() / (key + ".tmp." + std::to_string(::getpid()) + "." + std::to_string(++staging_counter));
+      std::filesystem::create_directories(staging, ec);
+      write_organ(build, staging / cached.filename());
+      for (const char* ext : {".png", ".mtl", ".obj"}) {
+        const std::filesystem::path name = std::filesystem::path(cached).replace_extension(ext).filename();
+        if (std::filesystem::exists(staging / name, ec)) std::filesystem::rename(staging / name, cached.parent_path() / name, ec);
+      }
+      std::filesystem::remove_all(staging, ec);
       mesh = build.mesh;
     } catch (const Error& e) {
       spec.at("build").fail(e.what());
