@@ -35,6 +35,7 @@ struct BuildArgs {
   bool all_components = false;
   std::size_t min_component_voxels = 8;
   int stride = 0;
+  int remesh = 3;
   std::size_t texture_size = 256;
   bool no_texture = false;
   std::string report;
@@ -102,6 +103,7 @@ void run_build(const BuildArgs& a) {
   options.surface.largest_component_only = !a.all_components;
   options.surface.min_component_voxels = a.min_component_voxels;
   options.surface.extract_stride = a.stride;
+  options.surface.remesh_iterations = a.remesh;
   options.texture_chart_pixels = a.no_texture ? 0 : a.texture_size;
   check_writable_dir(a.output);
   if (!a.report.empty()) check_writable_dir(a.report);
@@ -127,8 +129,9 @@ void run_build(const BuildArgs& a) {
     std::printf("  distance to the raw surface: mean %.3f mm, max %.3f mm (%.2f voxels)\n", build.distance.mean * 1e3,
                 build.distance.max * 1e3, report.at("hausdorff").at("max_voxels").get<double>());
     std::printf("  min angle %.1f deg, max aspect ratio %.1f\n", build.shape.min_angle_deg, build.shape.max_aspect);
-    std::printf("  seconds: extract %.3f, smooth %.3f, decimate %.3f, total %.3f\n", s.at("extract").get<double>(),
-                s.at("smooth").get<double>(), s.at("decimate").get<double>(), s.at("total").get<double>());
+    std::printf("  seconds: extract %.3f, smooth %.3f, to the budget %.3f (%s), total %.3f\n", s.at("extract").get<double>(),
+                s.at("smooth").get<double>(), s.at("decimate").get<double>(), build.surface.decimator.c_str(),
+                s.at("total").get<double>());
   }
 }
 
@@ -201,6 +204,7 @@ void add_mesh_build_commands(CLI::App& mesh, int& exit_code) {
   build->add_flag("--all-components", a->all_components, "Keep every component of at least --min-component-voxels, not only the largest");
   build->add_option("--min-component-voxels", a->min_component_voxels, "Smallest component kept")->check(CLI::Range(std::size_t{1}, std::size_t{1} << 40))->capture_default_str();
   build->add_option("--stride", a->stride, "Extraction grid stride (0: auto, coarser only when the surface would far exceed the budget; 1: full resolution)")->check(CLI::Range(0, 8))->capture_default_str();
+  build->add_option("--remesh", a->remesh, "Isotropic remeshing rounds to the budget (near-equilateral triangles); 0: edge-collapse decimation to exactly the budget")->check(CLI::Range(0, 50))->capture_default_str();
   build->add_option("--texture-size", a->texture_size, "Texels per atlas chart side (the PNG is 3x2 charts)")->check(CLI::Range(8, 4096))->capture_default_str();
   build->add_flag("--no-texture", a->no_texture, "No UVs and no texture");
   build->add_option("--report", a->report, "Write the build report (JSON)");

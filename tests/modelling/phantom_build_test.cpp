@@ -43,7 +43,7 @@ void expect_clean(const OrganBuild& b, int genus, Real analytic_volume, const ch
   EXPECT_EQ(b.genus, genus) << what;
   EXPECT_NEAR(b.mesh_volume / analytic_volume, 1.0, 0.01) << what;
   EXPECT_LE(b.mesh.triangle_count(), 6000u) << what;
-  EXPECT_GE(b.mesh.triangle_count(), 5900u) << what;  // the raw surfaces have ≥ 9K triangles here
+  EXPECT_GE(b.mesh.triangle_count(), 5400u) << what;  // remeshing lands within ~±6 %; the raw surfaces have ≥ 9K
   EXPECT_LT(b.distance.max, kVoxel) << what << ": Hausdorff to the raw surface";
 }
 

@@ -40,7 +40,7 @@ TEST_P(RealVolume, BuildsClosedManifoldAtSixThousandTriangles) {
   EXPECT_EQ(b.defects, 0u);
   EXPECT_EQ(b.repair_changes, 0u);
   EXPECT_LE(b.mesh.triangle_count(), 6000u);
-  EXPECT_GE(b.mesh.triangle_count(), std::min<std::size_t>(5900, b.surface.raw.triangle_count() * 9 / 10));
+  EXPECT_GE(b.mesh.triangle_count(), std::min<std::size_t>(6000, b.surface.raw.triangle_count()) * 9 / 10);  // remeshing lands within ~±6 %, trimmed to ≤ the budget
   // Smoothing keeps the volume of a bulky organ within 3 % of its voxels'; a small or thin one
   // (a 3 mm-voxel pancreas 2–4 voxels thick, gallbladders) loses more to the rounding of its
   // edges, which the marching cubes surface already cuts at half a voxel.

@@ -68,7 +68,7 @@ TEST_F(SceneBuild, BuildsOnceThenReadsTheCache) {
   const double cold = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   ASSERT_EQ(first.world.tissues.size(), 1u);
   const auto& liver = first.world.tissues[0]->settings;
-  EXPECT_GT(liver.triangles.size(), 5900u);
+  EXPECT_GT(liver.triangles.size(), 5400u);
   EXPECT_LE(liver.triangles.size(), 6000u);
   EXPECT_EQ(cached_objs(), 1u);
   const auto t1 = std::chrono::steady_clock::now();
@@ -110,7 +110,7 @@ TEST_F(SceneBuild, DamagedCacheEntryIsRebuilt) {
     if (e.path().extension() == ".obj") std::ofstream(e.path(), std::ios::trunc) << "garbage\n";
   }
   const Scene again = load_scene(kScenes / "built_liver.json");
-  EXPECT_GT(again.world.tissues[0]->settings.triangles.size(), 5900u);
+  EXPECT_GT(again.world.tissues[0]->settings.triangles.size(), 5400u);
 }
 
 TEST_F(SceneBuild, BadKeysAndFilesNameTheKey) {

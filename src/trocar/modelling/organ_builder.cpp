@@ -97,6 +97,8 @@ nlohmann::json build_report(const OrganBuild& b, const Volume& volume) {
       {"components_kept", b.surface.components_kept},
       {"decimator", b.surface.decimator},
       {"extract_stride", b.surface.stride},
+      {"thickness_voxels", b.surface.thickness_voxels},
+      {"budget_edge_voxels", b.surface.edge_voxels},
       {"triangles", b.mesh.triangle_count()},
       {"vertices", b.mesh.vertex_count()},
       {"raw_triangles", b.surface.raw.triangle_count()},

@@ -134,37 +134,46 @@ vtkSmartPointer<vtkImageData> coarse_occupancy(const Volume& volume, const std::
   return image;
 }
 
-/// Grid stride of the extraction: 1 (full resolution), or, when the full-resolution surface
-/// would hold far more triangles than the budget, the integer s that brings it to about
-/// kOversample × target (its triangle count falls as 1/s²; at 6K triangles the decimation
-/// error dominates: a 256³ ellipsoid's Hausdorff distance is 0.69 voxel at s = 1, 0.77 at s = 3). Decimation time grows with its input,
-/// so this is what keeps a 256³ label under a second. Only for near-isotropic voxels and
-/// bulky organs.
-int extraction_stride(const Volume& volume, const std::vector<std::uint8_t>& kept, const SurfaceOptions& options) {
-  if (options.extract_stride > 0) return options.extract_stride;
-  if (options.target_triangles == 0 || volume.spacing.maxCoeff() > 1.5 * volume.spacing.minCoeff()) return 1;
-  constexpr double kOversample = 4;
-  // Flying edges makes about two triangles per boundary face of the voxel set.
-  std::size_t faces = 0, voxels = 0;
+/// Voxel count and boundary faces (6-neighbours outside) of the kept mask. Their ratio is a
+/// solid's thickness scale in voxels: r/3 for a ball, t/2 for a wall of thickness t.
+struct MaskShape {
+  std::size_t voxels = 0;
+  std::size_t faces = 0;
+  double thickness() const { return static_cast<double>(voxels) / std::max<double>(1.0, static_cast<double>(faces)); }
+};
+
+MaskShape mask_shape(const Volume& volume, const std::vector<std::uint8_t>& kept) {
+  MaskShape shape;
   const std::size_t sx = 1, sy = volume.dims[0], sz = volume.dims[0] * volume.dims[1];
   for (std::size_t k = 0; k < volume.dims[2]; ++k)
     for (std::size_t j = 0; j < volume.dims[1]; ++j)
       for (std::size_t i = 0; i < volume.dims[0]; ++i) {
         const std::size_t at = volume.index(i, j, k);
         if (kept[at] == 0) continue;
-        ++voxels;
-        faces += (i == 0 || kept[at - sx] == 0) + (i + 1 == volume.dims[0] || kept[at + sx] == 0) +
-                 (j == 0 || kept[at - sy] == 0) + (j + 1 == volume.dims[1] || kept[at + sy] == 0) +
-                 (k == 0 || kept[at - sz] == 0) + (k + 1 == volume.dims[2] || kept[at + sz] == 0);
+        ++shape.voxels;
+        shape.faces += (i == 0 || kept[at - sx] == 0) + (i + 1 == volume.dims[0] || kept[at + sx] == 0) +
+                       (j == 0 || kept[at - sy] == 0) + (j + 1 == volume.dims[1] || kept[at + sy] == 0) +
+                       (k == 0 || kept[at - sz] == 0) + (k + 1 == volume.dims[2] || kept[at + sz] == 0);
       }
-  const double ratio = 2.0 * static_cast<double>(faces) / (kOversample * static_cast<double>(options.target_triangles));
-  // Thin parts vanish from a block average coarser than them: volume / boundary area is a
-  // solid's mean half-thickness scale (r/3 for a ball, t/2 for a wall of thickness t), and the
-  // stride stays below a quarter of it. A thin-walled organ (the frog's stomach: 1.1 voxels)
-  // is extracted at full resolution.
-  const double thickness = static_cast<double>(voxels) / std::max<double>(1.0, static_cast<double>(faces));
+  return shape;
+}
+
+/// Grid stride of the extraction: 1 (full resolution), or, when the full-resolution surface
+/// would hold far more triangles than the budget, the integer s that brings it to about
+/// kOversample × target (its triangle count falls as 1/s²). Decimation time grows with its
+/// input, so this is what keeps a 256³ label under a second; at 6K triangles the budget's error
+/// dominates (a 256³ ellipsoid's Hausdorff distance: 0.69 voxel at s = 1, 0.77 at s = 3). Only
+/// for near-isotropic voxels and bulky organs: thin parts vanish from a block average coarser
+/// than them, so s stays below a quarter of the thickness scale (the frog's stomach, 1.1
+/// voxels, is extracted at full resolution; at s = 3 it lost 19 % of its volume).
+int extraction_stride(const Volume& volume, const MaskShape& shape, const SurfaceOptions& options) {
+  if (options.extract_stride > 0) return options.extract_stride;
+  if (options.target_triangles == 0 || volume.spacing.maxCoeff() > 1.5 * volume.spacing.minCoeff()) return 1;
+  constexpr double kOversample = 4;
+  // Flying edges makes about two triangles per boundary face of the voxel set.
+  const double ratio = 2.0 * static_cast<double>(shape.faces) / (kOversample * static_cast<double>(options.target_triangles));
   const int budget = static_cast<int>(std::floor(std::sqrt(ratio)));
-  const int thin = static_cast<int>(std::floor(thickness / 4));
+  const int thin = static_cast<int>(std::floor(shape.thickness() / 4));
   return std::clamp(std::min(budget, thin), 1, 4);
 }
 
@@ -247,7 +256,9 @@ Surface extract_surface(const Volume& volume, const Mask& mask, const SurfaceOpt
   t0 = Clock::now();
   ProgressBridge extract_bridge{&progress, "extract"};
   vtkNew<vtkCallbackCommand> extract_cmd;
-  const int stride = extraction_stride(volume, kept, options);
+  const MaskShape shape = mask_shape(volume, kept);
+  out.thickness_voxels = shape.thickness();
+  const int stride = extraction_stride(volume, shape, options);
   out.stride = stride;
   vtkSmartPointer<vtkPolyData> reference;  // full resolution, discrete
   if (stride == 1 || options.reference_surface) {
@@ -309,18 +320,42 @@ Surface extract_surface(const Volume& volume, const Mask& mask, const SurfaceOpt
   }
   out.times.smooth = seconds_since(t0);
 
-  // The largest connected surface (a cavity's inner wall is a surface of its own), then
-  // decimation by topology-preserving edge collapse (decimate.h).
+  // The largest connected surface (a cavity's inner wall is a surface of its own), then the
+  // triangle budget: isotropic remeshing of the smoothed surface (near-equilateral triangles,
+  // which the mass-spring model wants), or edge-collapse decimation alone (decimate.h). Both
+  // keep the topology. A surface already under the budget keeps its triangle count. Remeshing
+  // at edge length l cannot hold a wall thinner than about l/2 (it folds the two sides
+  // together: the frog's stomach lost 7 % of its volume), so thin organs are decimated, which
+  // preserves volume.
   t0 = Clock::now();
   if (progress) progress("decimate", 0);
   TriMesh mesh = to_mesh(largest_region(surface, options.largest_component_only));
   out.decimator = "none";
-  if (options.target_triangles > 0 && mesh.triangle_count() > options.target_triangles) {
+  const std::size_t budget = std::min(options.target_triangles, mesh.triangle_count());
+  out.edge_voxels = std::sqrt(4 * mesh.area() / (std::sqrt(3.0) * static_cast<double>(std::max<std::size_t>(budget, 1))));
+  const bool thin = shape.thickness() < 0.5 * out.edge_voxels;
+  if (options.target_triangles > 0 && options.remesh_iterations > 0 && !thin) {
+    TriMesh remeshed = remesh_isotropic(mesh, budget, options.remesh_iterations);
+    out.decimator = "isotropic remeshing (" + std::to_string(options.remesh_iterations) + " rounds)";
+    // The remeshed count lands within about ±6 % of the budget (its edge-length rule); over it,
+    // once more from the same surface with the budget scaled by the miss (N ∝ 1/l²), and a few
+    // collapses trim what is left.
+    if (remeshed.triangle_count() > budget) {
+      const double miss = static_cast<double>(remeshed.triangle_count()) / static_cast<double>(budget);
+      remeshed = remesh_isotropic(mesh, static_cast<std::size_t>(static_cast<double>(budget) / (miss * 1.01)),
+                                  options.remesh_iterations);
+    }
+    mesh = std::move(remeshed);
+    if (mesh.triangle_count() > budget) {
+      mesh = decimate_preserving_topology(mesh, budget);
+      out.decimator += ", trimmed by edge collapse";
+    }
+  } else if (options.target_triangles > 0 && mesh.triangle_count() > options.target_triangles) {
     mesh = decimate_preserving_topology(mesh, options.target_triangles);
-    out.decimator = "edge collapse (Lindstrom-Turk, link condition)";
+    out.decimator = std::string("edge collapse (Lindstrom-Turk, link condition)") +
+                    (thin && options.remesh_iterations > 0 ? ": too thin to remesh" : "");
   }
   out.times.decimate = seconds_since(t0);
-
   t0 = Clock::now();
   out.mesh = to_world(std::move(mesh), volume);
   out.times.clean = seconds_since(t0);

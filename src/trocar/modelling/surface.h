@@ -30,6 +30,10 @@ struct SurfaceOptions {
   /// ~6× the triangle budget, near-isotropic voxels only), 1 = full resolution, s = every s-th
   /// voxel of the block-averaged mask.
   int extract_stride = 0;
+  /// Rounds of isotropic remeshing that bring the smoothed surface to the budget with
+  /// near-equilateral triangles (about target_triangles, within a few per cent); 0: decimate by
+  /// edge collapse instead (exactly target_triangles, but slivers: minimum angles of 0.1–6°).
+  int remesh_iterations = 3;
   /// Also extract the full-resolution surface as the reference for the distance figures (it
   /// is the extracted surface itself when the stride is 1).
   bool reference_surface = true;
@@ -40,7 +44,7 @@ struct SurfaceTimes {
   double components = 0;  ///< connected components of the mask
   double extract = 0;     ///< padding, pre-smoothing and flying edges
   double smooth = 0;      ///< windowed sinc
-  double decimate = 0;    ///< edge-collapse decimation
+  double decimate = 0;    ///< remeshing or edge-collapse decimation to the budget
   double clean = 0;       ///< largest surface, compaction, world mapping
 };
 
@@ -54,6 +58,8 @@ struct Surface {
   std::size_t components = 0;      ///< 6-connected components in the mask
   std::size_t components_kept = 0; ///< of them, kept
   int stride = 1;                  ///< extraction grid stride used
+  double thickness_voxels = 0;     ///< kept voxels / boundary faces (a thickness scale)
+  double edge_voxels = 0;          ///< edge length of an equilateral mesh at the budget (voxels)
   std::string decimator;           ///< how it was decimated, or "none"
   SurfaceTimes times;              ///< seconds per stage
 };
