@@ -125,20 +125,22 @@ Phantom edge_phantom(Real voxel) {
 }
 
 Phantom abdomen_phantom(Real voxel) {
-  // Liver: a large right lobe and a smaller, flatter left lobe, smoothly blended (a smooth
-  // minimum of their ellipsoid fields), flattened on its inferior (visceral) face; the
+  // Liver: a wedge 22 cm long (x), thick and round on the right (x > 0, 14 cm top to bottom)
+  // tapering to a thin left lobe (2.4 cm), its cross-sections ellipses whose semi-axes follow a
+  // smoothstep along x; the inferior (visceral) face cut flatter than the domed top. The
   // gallbladder: a pear-shaped ellipsoid under the right lobe, its fundus just below the edge.
-  const Vec3 right_c(0.035, 0, 0.0), right_s(0.075, 0.065, 0.050);
-  const Vec3 left_c(-0.055, 0.01, 0.012), left_s(0.060, 0.045, 0.025);
-  const Vec3 gall_c(0.040, -0.035, -0.045), gall_s(0.035, 0.014, 0.014);
-  const auto field = [](const Vec3& x, const Vec3& c, const Vec3& s) { return (x - c).cwiseQuotient(s).norm() - 1; };
-  const auto liver = [&](const Vec3& x) {
-    const Real a = field(x, right_c, right_s), b = field(x, left_c, left_s);
-    const Real k = 0.25;  // polynomial smooth minimum (Quilez)
-    const Real h = std::clamp(0.5 + 0.5 * (b - a) / k, 0.0, 1.0);
-    const Real blended = b + (a - b) * h - k * h * (1 - h);
-    return blended <= 0 && x.z() >= -0.030 + 0.15 * x.x() * x.x() / 0.1;  // curved visceral face
+  const auto smoothstep = [](Real a, Real b, Real x) {
+    const Real u = std::clamp((x - a) / (b - a), 0.0, 1.0);
+    return u * u * (3 - 2 * u);
   };
+  const Real cx = -0.01, sx = 0.11;
+  const auto liver = [&](const Vec3& x) {
+    const Real t = smoothstep(-0.11, 0.06, x.x());
+    const Real sy = 0.050 + 0.035 * t, sz = 0.012 + 0.058 * t;
+    const Real q = std::pow((x.x() - cx) / sx, 2) + std::pow(x.y() / sy, 2) + std::pow(x.z() / sz, 2);
+    return q <= 1 && x.z() >= -0.6 * sz;
+  };
+  const Vec3 gall_c(0.035, -0.030, -0.050), gall_s(0.035, 0.014, 0.014);
   const Mat3 gall_rot = Eigen::AngleAxis<Real>(0.5, Vec3(0, 1, 0)).toRotationMatrix();
   const auto gall = [&](const Vec3& x) { return (gall_rot.transpose() * (x - gall_c)).cwiseQuotient(gall_s).norm() <= 1; };
   const std::array<std::size_t, 3> dims{static_cast<std::size_t>(std::ceil(0.25 / voxel)),

@@ -39,7 +39,8 @@ Phantom touching_blobs_phantom(Real voxel = 1e-3);
 /// volume is that of the sphere above the first voxels' lower face (where a padded extraction
 /// closes it).
 Phantom edge_phantom(Real voxel = 1e-3);
-/// An abdominal phantom at `voxel` spacing: label 1 liver (two blended lobes, flattened below),
+/// An abdominal phantom at `voxel` spacing: label 1 liver (a wedge: thick right lobe tapering to
+/// a thin left lobe, domed above, flatter below),
 /// label 2 gallbladder tucked under the right lobe. Volumes are those of the rasterised voxels.
 Phantom abdomen_phantom(Real voxel = 2e-3);
 

@@ -9,10 +9,6 @@
 #include <chrono>
 #include <cmath>
 
-#include <itkConnectedComponentImageFilter.h>
-#include <itkImage.h>
-#include <itkImportImageFilter.h>
-#include <itkRelabelComponentImageFilter.h>
 #include <vtkCallbackCommand.h>
 #include <vtkCellArray.h>
 #include <vtkDiscreteFlyingEdges3D.h>
@@ -33,6 +29,7 @@
 
 #include "trocar/core/error.h"
 #include "trocar/modelling/decimate.h"
+#include "trocar/modelling/mask_components.h"
 #include "trocar/modelling/vtk_threads.h"
 
 namespace trocar {
@@ -44,29 +41,17 @@ double seconds_since(Clock::time_point t0) { return std::chrono::duration<double
 
 [[noreturn]] void fail(const Volume& v, const std::string& reason) { throw FileError(v.source, FileLocation::none(), reason); }
 
-/// Relabels the mask's 6-connected components by size (ITK), keeps the largest or those of at
-/// least min_voxels; returns the kept mask.
+/// Keeps the largest 6-connected component, or those of at least min_component_voxels;
+/// returns the kept mask.
 std::vector<std::uint8_t> keep_components(const Volume& volume, const Mask& mask, const SurfaceOptions& options,
                                           Surface& out) {
-  using MaskImage = itk::Image<std::uint8_t, 3>;
-  using LabelImage = itk::Image<std::uint32_t, 3>;
-  auto import = itk::ImportImageFilter<std::uint8_t, 3>::New();
-  itk::ImportImageFilter<std::uint8_t, 3>::SizeType size;
-  for (unsigned a = 0; a < 3; ++a) size[a] = volume.dims[a];
-  import->SetRegion(itk::ImportImageFilter<std::uint8_t, 3>::RegionType(size));
-  import->SetImportPointer(const_cast<std::uint8_t*>(mask.inside.data()), mask.inside.size(), false);
-  auto components = itk::ConnectedComponentImageFilter<MaskImage, LabelImage>::New();
-  components->SetInput(import->GetOutput());
-  components->FullyConnectedOff();  // 6-connected: what the 0.5 iso-surface joins
-  auto relabel = itk::RelabelComponentImageFilter<LabelImage, LabelImage>::New();
-  relabel->SetInput(components->GetOutput());
-  relabel->Update();
-  const auto& sizes = relabel->GetSizeOfObjectsInPixels();
+  const Components components = connected_components(mask.inside, volume.dims);
+  const std::vector<std::size_t>& sizes = components.sizes;
   out.components = sizes.size();
-  std::uint32_t keep = 0;  // components 1..keep are kept (sorted by size, largest first)
-  for (std::size_t c = 0; c < sizes.size(); ++c) {
-    const bool wanted = options.largest_component_only ? c == 0 : sizes[c] >= options.min_component_voxels;
-    if (wanted && sizes[c] >= options.min_component_voxels) keep = static_cast<std::uint32_t>(c + 1);
+  std::uint32_t keep = 0;  // components 1..keep are kept (numbered largest first)
+  for (std::size_t c = 0; c < sizes.size() && sizes[c] >= options.min_component_voxels; ++c) {
+    keep = static_cast<std::uint32_t>(c + 1);
+    if (options.largest_component_only) break;
   }
   if (keep == 0) {
     fail(volume, mask.what + " is too small to mesh: " + std::to_string(sizes.empty() ? 0 : sizes[0]) +
@@ -75,9 +60,8 @@ std::vector<std::uint8_t> keep_components(const Volume& volume, const Mask& mask
   }
   out.components_kept = keep;
   std::vector<std::uint8_t> kept(mask.inside.size(), 0);
-  const std::uint32_t* labels = relabel->GetOutput()->GetBufferPointer();
   for (std::size_t p = 0; p < kept.size(); ++p) {
-    kept[p] = labels[p] != 0 && labels[p] <= keep ? 1 : 0;
+    kept[p] = components.labels[p] != 0 && components.labels[p] <= keep ? 1 : 0;
     out.kept_voxels += kept[p];
   }
   return kept;
