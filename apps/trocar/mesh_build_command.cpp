@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <chrono>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -109,11 +110,19 @@ void run_build(const BuildArgs& a) {
   if (!a.report.empty()) check_writable_dir(a.report);
 
   ProgressBar bar(a.quiet);
+  bar("read", 0);
+  const auto t0 = std::chrono::steady_clock::now();
   const Volume volume = read_volume(a.volume);
+  const double read_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const OrganBuild build = build_organ(volume, options, [&bar](const std::string& s, double f) { bar(s, f); });
   bar.finish();
+  const auto t1 = std::chrono::steady_clock::now();
   write_organ(build, a.output);
-  const nlohmann::json report = build_report(build, volume);
+  nlohmann::json report = build_report(build, volume);
+  auto& seconds = report.at("seconds");
+  seconds["read"] = read_seconds;
+  seconds["write"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+  seconds["total"] = seconds.at("total").get<double>() + read_seconds + seconds.at("write").get<double>();
   if (!a.report.empty()) {
     std::ofstream out(a.report);
     out << report.dump(2) << "\n";

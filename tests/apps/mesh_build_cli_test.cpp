@@ -56,6 +56,11 @@ TEST_F(MeshBuildCli, PhantomLabelsBuildReport) {
   EXPECT_EQ(r.at("genus").get<int>(), 1);
   EXPECT_LT(std::abs(r.at("volume_error_percent").get<double>()), 1.0);
   EXPECT_LT(r.at("hausdorff").at("max_voxels").get<double>(), 1.0);
+  for (const char* stage : {"read", "components", "extract", "smooth", "decimate", "checks", "uv", "texture", "write"})
+    EXPECT_GE(r.at("seconds").at(stage).get<double>(), 0.0) << stage;
+  // The phantom's torus is centred on the world origin: its box is ±(25 + 9) mm across, ±9 mm high.
+  EXPECT_NEAR(r.at("bounds_m").at("max")[0].get<double>(), 0.034, 1e-3);
+  EXPECT_NEAR(r.at("bounds_m").at("min")[2].get<double>(), -0.009, 1e-3);
   // The written organ is clean by the project's own check.
   const RunResult info = run("mesh info " + path("torus.obj"));
   EXPECT_NE(info.output.find("defects                 none"), std::string::npos) << info.output;

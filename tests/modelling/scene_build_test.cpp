@@ -113,6 +113,17 @@ TEST_F(SceneBuild, DamagedCacheEntryIsRebuilt) {
   EXPECT_GT(again.world.tissues[0]->settings.triangles.size(), 5400u);
 }
 
+TEST_F(SceneBuild, UnwritableCacheStillBuildsTheScene) {
+  const std::string saved = cache_dir().string();
+  const fs::path blocker = fs::temp_directory_path() / ("trocar_cache_blocker_" + std::to_string(::getpid()));
+  std::ofstream(blocker) << "a file where the cache folder should be\n";
+  ::setenv("TROCAR_CACHE_DIR", blocker.c_str(), 1);
+  const Scene scene = load_scene(kScenes / "built_liver.json");
+  ::setenv("TROCAR_CACHE_DIR", saved.c_str(), 1);
+  fs::remove(blocker);
+  EXPECT_GT(scene.world.tissues[0]->settings.triangles.size(), 5400u);
+}
+
 TEST_F(SceneBuild, BadKeysAndFilesNameTheKey) {
   const fs::path dir = kScenes;
   EXPECT_NE(error_of(liver_scene(R"({"build": "volumes/abdomen_phantom.nii.gz", "label": "liver", "colour": 1})"), dir)

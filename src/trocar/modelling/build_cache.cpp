@@ -62,8 +62,6 @@ std::filesystem::path cache_dir() {
   return std::filesystem::temp_directory_path() / "trocar-cache";
 }
 
-std::string file_md5(const std::filesystem::path& path) { return md5_hex({read_bytes(path)}); }
-
 TriMesh build_scene_mesh(const JsonReader& spec, const std::filesystem::path& scene_dir) {
   spec.expect_keys({"build", "label", "threshold", "class_map", "layer", "target_triangles", "smooth_iterations",
                     "presmooth_mm", "remesh_iterations", "all_components", "centre"});
@@ -130,14 +128,19 @@ TriMesh build_scene_mesh(const JsonReader& spec, const std::filesystem::path& sc
       const Volume volume = read_volume(volume_path);
       const OrganBuild build = build_organ(volume, options);
       // Written into a private folder with the final names (the OBJ names its MTL, the MTL its
-      // PNG), then renamed into place, the OBJ last: a concurrent reader sees a whole entry or none.
+      // PNG), then renamed into place, the OBJ last: a concurrent reader sees a whole entry or
+      // none. Caching is best effort: an unwritable cache costs a rebuild next time, not the scene.
       const std::filesystem::path staging =
           cached.parent_path() / (key + ".tmp." + std::to_string(::getpid()) + "." + std::to_string(++staging_counter));
-      std::filesystem::create_directories(staging, ec);
-      write_organ(build, staging / cached.filename());
-      for (const char* ext : {".png", ".mtl", ".obj"}) {
-        const std::filesystem::path name = std::filesystem::path(cached).replace_extension(ext).filename();
-        if (std::filesystem::exists(staging / name, ec)) std::filesystem::rename(staging / name, cached.parent_path() / name, ec);
+      try {
+        std::filesystem::create_directories(staging);
+        write_organ(build, staging / cached.filename());
+        for (const char* ext : {".png", ".mtl", ".obj"}) {
+          const std::filesystem::path name = std::filesystem::path(cached).replace_extension(ext).filename();
+          if (std::filesystem::exists(staging / name, ec)) std::filesystem::rename(staging / name, cached.parent_path() / name, ec);
+        }
+      } catch (const std::exception&) {
+        // Left uncached.
       }
       std::filesystem::remove_all(staging, ec);
       mesh = build.mesh;

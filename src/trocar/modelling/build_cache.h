@@ -14,9 +14,6 @@ namespace trocar {
 /// ~/.cache/trocar, else the temp directory's trocar-cache.
 std::filesystem::path cache_dir();
 
-/// Hex MD5 of a file's bytes (vtksys). Throws FileError when it cannot be read.
-std::string file_md5(const std::filesystem::path& path);
-
 /// The organ a scene's "mesh" object describes: keys build (volume path, relative to
 /// scene_dir), label (value or name) or threshold [low, high], class_map (path), layer,
 /// target_triangles, smooth_iterations, presmooth_mm, all_components, centre. Built and

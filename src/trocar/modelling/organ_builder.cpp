@@ -85,6 +85,7 @@ nlohmann::json build_report(const OrganBuild& b, const Volume& volume) {
   const char* bins[] = {"[1,1.5)", "[1.5,2)", "[2,3)", "[3,5)", "[5,10)", "[10,inf)"};
   for (std::size_t i = 0; i < h.size(); ++i) aspect.push_back({{"bin", bins[i]}, {"triangles", h[i]}});
   const SurfaceTimes& t = b.surface.times;
+  const Aabb bounds = b.mesh.bounds();
   return json{
       {"input", volume.source},
       {"dims", {volume.dims[0], volume.dims[1], volume.dims[2]}},
@@ -108,7 +109,9 @@ nlohmann::json build_report(const OrganBuild& b, const Volume& volume) {
       {"volume_error_percent", 100 * (b.mesh_volume / b.voxel_volume - 1)},
       {"hausdorff", {{"mean_mm", b.distance.mean * 1e3}, {"max_mm", b.distance.max * 1e3},
                      {"mean_voxels", b.distance.mean / voxel}, {"max_voxels", b.distance.max / voxel},
-                     {"against", "the raw extracted surface; voxels of the smallest spacing"}}},
+                     {"against", "the full-resolution extracted surface; voxels of the smallest spacing"}}},
+      {"bounds_m", {{"min", {bounds.min.x(), bounds.min.y(), bounds.min.z()}}, {"max", {bounds.max.x(), bounds.max.y(), bounds.max.z()}}}},
+      {"world", "patient LPS, metres"},
       {"min_angle_deg", b.shape.min_angle_deg},
       {"mean_min_angle_deg", b.shape.mean_min_angle_deg},
       {"max_aspect_ratio", b.shape.max_aspect},
