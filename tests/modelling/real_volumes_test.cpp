@@ -180,6 +180,8 @@ struct Placement {
   Vec3 (*centroid)(const std::filesystem::path&, int);
 };
 
+std::ostream& operator<<(std::ostream& o, const Placement& p) { return o << p.file << ":" << p.label; }
+
 class WorldPlacement : public ::testing::TestWithParam<Placement> {};
 
 /// The organ's solid centroid lies where the header puts the label's voxels (within half the
