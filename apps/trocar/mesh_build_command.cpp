@@ -33,6 +33,7 @@ struct BuildArgs {
   int smooth_iterations = 20;
   double passband = 0.01;
   double presmooth_mm = 0;
+  double close_mm = 0;
   bool all_components = false;
   std::size_t min_component_voxels = 8;
   int stride = 0;
@@ -101,6 +102,7 @@ void run_build(const BuildArgs& a) {
   options.surface.smooth_iterations = a.smooth_iterations;
   options.surface.smooth_passband = a.passband;
   options.surface.presmooth_sigma = a.presmooth_mm * 1e-3;
+  options.surface.close_radius = a.close_mm * 1e-3;
   options.surface.largest_component_only = !a.all_components;
   options.surface.min_component_voxels = a.min_component_voxels;
   options.surface.extract_stride = a.stride;
@@ -210,6 +212,7 @@ void add_mesh_build_commands(CLI::App& mesh, int& exit_code) {
   build->add_option("--smooth-iterations", a->smooth_iterations, "Windowed-sinc smoothing iterations (0: none)")->check(CLI::Range(0, 1000))->capture_default_str();
   build->add_option("--passband", a->passband, "Windowed-sinc pass band (smaller: smoother)")->check(CLI::Range(1e-5, 2.0))->capture_default_str();
   build->add_option("--presmooth", a->presmooth_mm, "Gaussian pre-smoothing of the mask, sigma (mm; 0: none)")->check(CLI::NonNegativeNumber)->capture_default_str();
+  build->add_option("--close", a->close_mm, "Morphological closing of the mask, ball radius (mm; 0: none): fills small tunnels and gaps")->check(CLI::NonNegativeNumber)->capture_default_str();
   build->add_flag("--all-components", a->all_components, "Keep every component of at least --min-component-voxels, not only the largest");
   build->add_option("--min-component-voxels", a->min_component_voxels, "Smallest component kept")->check(CLI::Range(std::size_t{1}, std::size_t{1} << 40))->capture_default_str();
   build->add_option("--stride", a->stride, "Extraction grid stride (0: auto, coarser only when the surface would far exceed the budget; 1: full resolution)")->check(CLI::Range(0, 8))->capture_default_str();

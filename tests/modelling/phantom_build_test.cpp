@@ -161,6 +161,25 @@ TEST(PhantomBuild, PresmoothingKeepsVolumeAndLowersTheStaircase) {
   EXPECT_LT(mean_error(smooth.mesh), mean_error(plain.mesh));
 }
 
+TEST(PhantomBuild, ClosingFillsANarrowTunnel) {
+  // A fat torus (R 7 mm, r 5 mm: a 4 mm hole) is genus 1; closing with a 3 mm ball fills the
+  // hole, and the organ comes out genus 0 and a little larger.
+  Volume v = rasterise({30, 30, 16}, kVoxel, Vec3(-14.5e-3, -14.5e-3, -7.5e-3), [](const Vec3& x) {
+    const Real q = std::hypot(x.x(), x.y()) - 0.007;
+    return q * q + x.z() * x.z() <= 0.005 * 0.005 ? 1 : 0;
+  });
+  OrganBuildOptions o;
+  o.query.label = "1";
+  o.surface.target_triangles = 2000;
+  const OrganBuild open = build_organ(v, o);
+  EXPECT_EQ(open.genus, 1);
+  o.surface.close_radius = 3e-3;
+  const OrganBuild closed = build_organ(v, o);
+  EXPECT_EQ(closed.genus, 0);
+  EXPECT_GT(closed.mesh_volume, open.mesh_volume);
+  EXPECT_TRUE(closed.closed && closed.manifold && closed.outward);
+}
+
 TEST(PhantomBuild, AllComponentsKeepsBothBlobsLargestKeepsOne) {
   // Two separate spheres under one label: the default keeps the larger, all_components both.
   Volume v = rasterise({60, 30, 30}, kVoxel, Vec3::Zero(), [](const Vec3& x) {

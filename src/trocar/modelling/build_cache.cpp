@@ -64,7 +64,7 @@ std::filesystem::path cache_dir() {
 
 TriMesh build_scene_mesh(const JsonReader& spec, const std::filesystem::path& scene_dir) {
   spec.expect_keys({"build", "label", "threshold", "class_map", "layer", "target_triangles", "smooth_iterations",
-                    "presmooth_mm", "remesh_iterations", "all_components", "centre"});
+                    "presmooth_mm", "close_mm", "remesh_iterations", "all_components", "centre"});
   const std::filesystem::path volume_path = existing_file(spec.at("build"), scene_dir);
   OrganBuildOptions options;
   options.measure_distance = false;
@@ -93,6 +93,7 @@ TriMesh build_scene_mesh(const JsonReader& spec, const std::filesystem::path& sc
   if (spec.has("target_triangles")) options.surface.target_triangles = static_cast<std::size_t>(spec.at("target_triangles").integer(0, 10'000'000));
   if (spec.has("smooth_iterations")) options.surface.smooth_iterations = static_cast<int>(spec.at("smooth_iterations").integer(0, 1000));
   if (spec.has("remesh_iterations")) options.surface.remesh_iterations = static_cast<int>(spec.at("remesh_iterations").integer(0, 50));
+  if (spec.has("close_mm")) options.surface.close_radius = spec.at("close_mm").number_at_least(0) * 1e-3;
   if (spec.has("presmooth_mm")) options.surface.presmooth_sigma = spec.at("presmooth_mm").number_at_least(0) * 1e-3;
   options.surface.largest_component_only = !spec.boolean_or("all_components", false);
 
@@ -110,6 +111,7 @@ TriMesh build_scene_mesh(const JsonReader& spec, const std::filesystem::path& sc
                                " smooth=" + std::to_string(options.surface.smooth_iterations) +
                                " sigma=" + std::to_string(options.surface.presmooth_sigma) +
                                " remesh=" + std::to_string(options.surface.remesh_iterations) +
+                               " close=" + std::to_string(options.surface.close_radius) +
                                " largest=" + std::to_string(options.surface.largest_component_only);
   const std::string key = md5_hex({volume_bytes, class_map_bytes, key_text});
   const std::filesystem::path cached = cache_dir() / "organs" / (key + ".obj");

@@ -17,4 +17,10 @@ struct Components {
 /// ITK's ConnectedComponentImageFilter then RelabelComponentImageFilter.
 Components connected_components(const std::vector<std::uint8_t>& mask, const std::array<std::size_t, 3>& dims);
 
+/// Morphological closing (dilate then erode) by an ellipsoidal ball of the given radii in
+/// voxels (ITK's BinaryMorphologicalClosingImageFilter, safe border): fills gaps, pits and
+/// tunnels narrower than the ball, so a noisy label loses its small handles.
+std::vector<std::uint8_t> close_mask(const std::vector<std::uint8_t>& mask, const std::array<std::size_t, 3>& dims,
+                                     const std::array<unsigned, 3>& radius);
+
 }  // namespace trocar

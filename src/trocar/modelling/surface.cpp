@@ -45,7 +45,13 @@ double seconds_since(Clock::time_point t0) { return std::chrono::duration<double
 /// returns the kept mask.
 std::vector<std::uint8_t> keep_components(const Volume& volume, const Mask& mask, const SurfaceOptions& options,
                                           Surface& out) {
-  const Components components = connected_components(mask.inside, volume.dims);
+  std::vector<std::uint8_t> closed;
+  if (options.close_radius > 0) {
+    std::array<unsigned, 3> radius{};
+    for (int a = 0; a < 3; ++a) radius[static_cast<std::size_t>(a)] = static_cast<unsigned>(std::lround(options.close_radius / volume.spacing[a]));
+    if (radius[0] + radius[1] + radius[2] > 0) closed = close_mask(mask.inside, volume.dims, radius);
+  }
+  const Components components = connected_components(closed.empty() ? mask.inside : closed, volume.dims);
   const std::vector<std::size_t>& sizes = components.sizes;
   out.components = sizes.size();
   std::uint32_t keep = 0;  // components 1..keep are kept (numbered largest first)

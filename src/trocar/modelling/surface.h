@@ -22,6 +22,9 @@ struct SurfaceOptions {
   /// Gaussian pre-smoothing of the mask before extraction, standard deviation (m); 0: none.
   /// Softens the staircase of thick slices; extraction then runs at the 0.5 level.
   Real presmooth_sigma = 0;
+  /// Morphological closing of the mask before anything else, ball radius (m); 0: none. Fills
+  /// tunnels, pits and gaps narrower than about twice the radius (noisy labels' small handles).
+  Real close_radius = 0;
   /// Keep only the largest 6-connected component of the mask (else every component of at
   /// least `min_component_voxels`).
   bool largest_component_only = true;
