@@ -208,7 +208,7 @@ void add_mesh_build_commands(CLI::App& mesh, int& exit_code) {
   build->add_option("--threshold", a->threshold, "Grey range LOW [HIGH] instead of a label")->expected(1, 2);
   build->add_option("--class-map", a->class_map, "Label names: JSON {\"5\": \"liver\"} or lines \"5 liver\" (TotalSegmentator's map)");
   build->add_option("--layer", a->layer, "Layer of a multi-layer .seg.nrrd (default: the named segment's, else 0)");
-  build->add_option("--target-triangles", a->target_triangles, "Decimate to about this many triangles (0: keep all)")->capture_default_str();
+  build->add_option("--target-triangles", a->target_triangles, "Triangle budget: remesh or decimate to at most this many (0: keep all)")->capture_default_str();
   build->add_option("--smooth-iterations", a->smooth_iterations, "Windowed-sinc smoothing iterations (0: none)")->check(CLI::Range(0, 1000))->capture_default_str();
   build->add_option("--passband", a->passband, "Windowed-sinc pass band (smaller: smoother)")->check(CLI::Range(1e-5, 2.0))->capture_default_str();
   build->add_option("--presmooth", a->presmooth_mm, "Gaussian pre-smoothing of the mask, sigma (mm; 0: none)")->check(CLI::NonNegativeNumber)->capture_default_str();
