@@ -164,22 +164,24 @@ TEST(ViewCli, RealXMouseEventsThroughGlfwDriveTheInstrument) {
   const fs::path report = temp("xdotool.json");
   // The X server delivers the events to GLFW, whose callbacks feed the same mapping: a left drag
   // from (640, 360) to (700, 390) gives yaw −60 · 0.004 and pitch 30 · 0.004 rad.
-  // The drag starts once the window is visible and has settled; on a loaded machine (CI runs
-  // two tests at once) the first frames can take seconds, so the program runs 6 s and a run whose
-  // drag arrived before the window took events is tried once more.
+  // The drag starts once the window is visible and has settled, with a few frames between events
+  // (the panel's capture test uses the last frame's pointer: a press that comes before a frame
+  // has seen the pointer leave the panel is the panel's). On a loaded machine (CI runs two tests
+  // at once, ~5 fps) events can still outrun the frames, so a run whose drag did not arrive whole
+  // is tried again, up to three times.
   const std::string script =
       "export DISPLAY=" + x.display() + "; " TROCAR_CLI " view " + kScenes +
       "/probe_press_slide.json --quit-after 6 --report " + report.string() +
       " & w=$(xdotool search --sync --onlyvisible --name trocar | head -1); xdotool windowmove $w 0 0; sleep 1.0;"
-      " xdotool mousemove --sync 640 360; sleep 0.1; xdotool mousedown 1; sleep 0.1;"
-      " xdotool mousemove --sync 670 375; sleep 0.05; xdotool mousemove --sync 700 390; sleep 0.1;"
+      " xdotool mousemove --sync 640 360; sleep 0.6; xdotool mousedown 1; sleep 0.3;"
+      " xdotool mousemove --sync 670 375; sleep 0.3; xdotool mousemove --sync 700 390; sleep 0.3;"
       " xdotool mouseup 1; wait";
   nlohmann::json j;
-  for (int attempt = 0; attempt < 2; ++attempt) {
+  for (int attempt = 0; attempt < 3; ++attempt) {
     const auto r = run_program("sh -c", "'" + script + "'");
     ASSERT_EQ(r.exit_code, 0) << r.output;
     j = read_json(report);
-    if (j["driven_instrument"]["travel_m"].get<double>() > 0) break;
+    if (std::abs(j["driven_instrument"]["command"]["yaw"].get<double>() + 0.24) < 1e-9) break;
   }
   EXPECT_NEAR(j["driven_instrument"]["command"]["yaw"].get<double>(), -0.24, 1e-9) << j.dump(2);
   EXPECT_NEAR(j["driven_instrument"]["command"]["pitch"].get<double>(), 0.12, 1e-9);
