@@ -23,6 +23,9 @@ template <typename Mesh>
 Mesh to_surface_mesh(const TriMesh& mesh) {
   using Point = typename Mesh::Point;
   Mesh sm;
+  sm.reserve(static_cast<typename Mesh::size_type>(mesh.vertex_count()),
+             static_cast<typename Mesh::size_type>(3 * mesh.triangle_count() / 2),
+             static_cast<typename Mesh::size_type>(mesh.triangle_count()));
   std::vector<typename Mesh::Vertex_index> vertex(mesh.vertex_count());
   for (std::size_t i = 0; i < mesh.vertex_count(); ++i) {
     const Vec3& p = mesh.positions[i];
@@ -30,7 +33,7 @@ Mesh to_surface_mesh(const TriMesh& mesh) {
   }
   for (const Triangle& t : mesh.triangles) {
     if (sm.add_face(vertex[t[0]], vertex[t[1]], vertex[t[2]]) == Mesh::null_face()) {
-      throw Error("decimation: the surface is not manifold");
+      throw Error("decimation: the surface is not manifold on entry");
     }
   }
   return sm;
@@ -71,24 +74,10 @@ TriMesh remesh_isotropic(const TriMesh& mesh, std::size_t target_triangles, int 
 }
 
 TriMesh decimate_preserving_topology(const TriMesh& mesh, std::size_t target_triangles) {
-  using Kernel = CGAL::Simple_cartesian<double>;
-  using Point = Kernel::Point_3;
-  using Mesh = CGAL::Surface_mesh<Point>;
+  using Mesh = CGAL::Surface_mesh<CGAL::Simple_cartesian<double>::Point_3>;
   namespace SMS = CGAL::Surface_mesh_simplification;
 
-  Mesh sm;
-  sm.reserve(static_cast<Mesh::size_type>(mesh.vertex_count()), static_cast<Mesh::size_type>(3 * mesh.triangle_count() / 2),
-             static_cast<Mesh::size_type>(mesh.triangle_count()));
-  std::vector<Mesh::Vertex_index> vertex(mesh.vertex_count());
-  for (std::size_t i = 0; i < mesh.vertex_count(); ++i) {
-    const Vec3& p = mesh.positions[i];
-    vertex[i] = sm.add_vertex(Point(p.x(), p.y(), p.z()));
-  }
-  for (const Triangle& t : mesh.triangles) {
-    if (sm.add_face(vertex[t[0]], vertex[t[1]], vertex[t[2]]) == Mesh::null_face()) {
-      throw Error("decimation: the surface is not manifold before decimation");
-    }
-  }
+  Mesh sm = to_surface_mesh<Mesh>(mesh);
   // A closed triangle mesh has E = 3F/2, so stopping at E edges leaves 2E/3 faces.
   const auto target_edges = static_cast<std::size_t>(3 * target_triangles / 2);
   SMS::Count_stop_predicate<Mesh> stop(target_edges);
@@ -97,22 +86,7 @@ TriMesh decimate_preserving_topology(const TriMesh& mesh, std::size_t target_tri
                      CGAL::parameters::get_cost(SMS::LindstromTurk_cost<Mesh>())
                          .get_placement(SMS::LindstromTurk_placement<Mesh>())
                          .filter(filter));
-  sm.collect_garbage();
-
-  TriMesh out;
-  out.positions.reserve(sm.number_of_vertices());
-  for (const Mesh::Vertex_index v : sm.vertices()) {
-    const Point& p = sm.point(v);
-    out.positions.emplace_back(p.x(), p.y(), p.z());
-  }
-  out.triangles.reserve(sm.number_of_faces());
-  for (const Mesh::Face_index f : sm.faces()) {
-    Triangle t{};
-    std::size_t c = 0;
-    for (const Mesh::Vertex_index v : CGAL::vertices_around_face(sm.halfedge(f), sm)) t[c++] = static_cast<std::uint32_t>(v.idx());
-    out.triangles.push_back(t);
-  }
-  return out;
+  return from_surface_mesh(sm);
 }
 
 }  // namespace trocar

@@ -1,6 +1,5 @@
 #include "trocar/modelling/organ_writers.h"
 
-#include <charconv>
 #include <fstream>
 
 #include "trocar/core/error.h"
@@ -16,17 +15,13 @@ void write_file(const std::filesystem::path& path, const std::string& text) {
   if (!out) throw FileError(path.string(), FileLocation::none(), "cannot write the file");
 }
 
-void append_real(std::string& out, double value) {
-  char buffer[32];
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
-  out.append(buffer, result.ptr);
-}
-
-std::string rgb_text(const Vec3& c) {
+/// "a b c" (or "a b") with the shortest round-trip digits.
+template <typename Vector>
+std::string numbers_text(const Vector& v) {
   std::string s;
-  for (int k = 0; k < 3; ++k) {
+  for (int k = 0; k < static_cast<int>(v.size()); ++k) {
     if (k > 0) s += ' ';
-    append_real(s, c[k]);
+    append_real(s, v[k]);
   }
   return s;
 }
@@ -36,7 +31,7 @@ std::string rgb_text(const Vec3& c) {
 void write_textured_obj(const TriMesh& mesh, const std::filesystem::path& obj_path, const std::string& texture_file,
                         const Vec3& diffuse) {
   const std::filesystem::path mtl_path = std::filesystem::path(obj_path).replace_extension(".mtl");
-  std::string mtl = "# written by trocar\nnewmtl organ\nKa 0 0 0\nKd " + rgb_text(diffuse) +
+  std::string mtl = "# written by trocar\nnewmtl organ\nKa 0 0 0\nKd " + numbers_text(diffuse) +
                     "\nKs 0.3 0.3 0.3\nNs 40\nd 1\nillum 2\n";
   if (!texture_file.empty()) mtl += "map_Kd " + texture_file + "\n";
   std::string obj = write_obj(mesh);
@@ -50,19 +45,11 @@ void write_textured_obj(const TriMesh& mesh, const std::filesystem::path& obj_pa
 
 std::string write_vrml(const TriMesh& mesh, const std::string& texture_file, const Vec3& diffuse, const std::string& name) {
   std::string out = "#VRML V2.0 utf8\n# written by trocar: " + name + "\n";
-  out += "Shape {\n  appearance Appearance {\n    material Material { diffuseColor " + rgb_text(diffuse) +
+  out += "Shape {\n  appearance Appearance {\n    material Material { diffuseColor " + numbers_text(diffuse) +
          " specularColor 0.3 0.3 0.3 shininess 0.3 }\n";
   if (!texture_file.empty()) out += "    texture ImageTexture { url \"" + texture_file + "\" }\n";
   out += "  }\n  geometry IndexedFaceSet {\n    solid TRUE\n    ccw TRUE\n    coord Coordinate { point [\n";
-  for (const Vec3& p : mesh.positions) {
-    out += "      ";
-    append_real(out, p.x());
-    out += ' ';
-    append_real(out, p.y());
-    out += ' ';
-    append_real(out, p.z());
-    out += ",\n";
-  }
+  for (const Vec3& p : mesh.positions) out += "      " + numbers_text(p) + ",\n";
   out += "    ] }\n    coordIndex [\n";
   for (const Triangle& t : mesh.triangles) {
     out += "      " + std::to_string(t[0]) + ' ' + std::to_string(t[1]) + ' ' + std::to_string(t[2]) + " -1,\n";
@@ -70,13 +57,7 @@ std::string write_vrml(const TriMesh& mesh, const std::string& texture_file, con
   out += "    ]\n";
   if (!mesh.texcoords.empty()) {
     out += "    texCoord TextureCoordinate { point [\n";
-    for (const Vec2& uv : mesh.texcoords) {
-      out += "      ";
-      append_real(out, uv.x());
-      out += ' ';
-      append_real(out, uv.y());
-      out += ",\n";
-    }
+    for (const Vec2& uv : mesh.texcoords) out += "      " + numbers_text(uv) + ",\n";
     out += "    ] }\n    texCoordIndex [\n";
     for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
       out += "      " + std::to_string(3 * t) + ' ' + std::to_string(3 * t + 1) + ' ' + std::to_string(3 * t + 2) + " -1,\n";

@@ -13,18 +13,13 @@
 #include <vtkCellArray.h>
 #include <vtkDiscreteFlyingEdges3D.h>
 #include <vtkFlyingEdges3D.h>
-#include <vtkFloatArray.h>
 #include <vtkIdList.h>
 #include <vtkImageData.h>
 #include <vtkImageGaussianSmooth.h>
 #include <vtkNew.h>
-#include <vtkPointData.h>
-#include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkPolyDataConnectivityFilter.h>
 #include <vtkSmartPointer.h>
-#include <vtkTriangleFilter.h>
-#include <vtkUnsignedCharArray.h>
 #include <vtkWindowedSincPolyDataFilter.h>
 
 #include "trocar/core/error.h"
@@ -184,6 +179,18 @@ void observe(vtkAlgorithm* algorithm, ProgressBridge& bridge, vtkCallbackCommand
   algorithm->AddObserver(vtkCommand::ProgressEvent, command);
 }
 
+/// Runs a flying-edges filter (discrete or continuous) at `level`: triangles only, no normals,
+/// gradients or scalars.
+template <typename FlyingEdges>
+vtkSmartPointer<vtkPolyData> run_flying_edges(FlyingEdges* edges, double level) {
+  edges->SetValue(0, level);
+  edges->ComputeNormalsOff();
+  edges->ComputeGradientsOff();
+  edges->ComputeScalarsOff();
+  edges->Update();
+  return edges->GetOutput();
+}
+
 /// vtkPolyData triangles → TriMesh (same coordinates), unused points dropped.
 TriMesh to_mesh(vtkPolyData* poly) {
   TriMesh mesh;
@@ -254,13 +261,8 @@ Surface extract_surface(const Volume& volume, const Mask& mask, const SurfaceOpt
   if (stride == 1 || options.reference_surface) {
     vtkNew<vtkDiscreteFlyingEdges3D> edges;
     edges->SetInputData(padded_mask(volume, kept, 1));
-    edges->SetValue(0, 1);
-    edges->ComputeNormalsOff();
-    edges->ComputeGradientsOff();
-    edges->ComputeScalarsOff();
     if (stride == 1 && options.presmooth_sigma <= 0) observe(edges, extract_bridge, extract_cmd);
-    edges->Update();
-    reference = edges->GetOutput();
+    reference = run_flying_edges(edges.Get(), 1);
     out.raw = to_world(to_mesh(reference), volume);
   }
   vtkSmartPointer<vtkPolyData> surface = reference;
@@ -279,13 +281,8 @@ Surface extract_surface(const Volume& volume, const Mask& mask, const SurfaceOpt
     } else {
       edges->SetInputData(occupancy);
     }
-    edges->SetValue(0, 0.5);
-    edges->ComputeNormalsOff();
-    edges->ComputeGradientsOff();
-    edges->ComputeScalarsOff();
     observe(edges, extract_bridge, extract_cmd);
-    edges->Update();
-    surface = edges->GetOutput();
+    surface = run_flying_edges(edges.Get(), 0.5);
   }
   out.times.extract = seconds_since(t0);
   if (surface->GetNumberOfPolys() == 0) fail(volume, mask.what + ": the extracted surface is empty");

@@ -49,6 +49,10 @@ TriMesh read_mesh(std::string_view bytes, MeshFormat format, const std::string& 
 /// Reads a mesh file, choosing the reader by extension. Throws FileError on any problem.
 TriMesh load_mesh(const std::filesystem::path& path);
 
+/// Appends `value` in the shortest form that reads back as the same double (std::to_chars):
+/// what every text writer here prints numbers with.
+void append_real(std::string& out, double value);
+
 /// Writes OBJ text (v, optional vn, f with 1-based indices); positions printed with 17
 /// significant digits so a reload gives the same doubles.
 std::string write_obj(const TriMesh& mesh);

@@ -31,12 +31,6 @@ void check_writable(const TriMesh& mesh, const char* what) {
   }
 }
 
-void append_real(std::string& out, double value) {
-  char buffer[32];
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
-  out.append(buffer, result.ptr);
-}
-
 void append_index(std::string& out, std::uint64_t value) {
   char buffer[24];
   const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
@@ -56,6 +50,12 @@ void append_f32_le(std::string& out, float f) {
 }
 
 }  // namespace
+
+void append_real(std::string& out, double value) {
+  char buffer[32];
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
+  out.append(buffer, result.ptr);
+}
 
 std::string write_obj(const TriMesh& mesh) {
   check_writable(mesh, "write_obj");
