@@ -124,8 +124,28 @@ Simulation::Simulation(World world, const SimulationSettings& settings)
       solvers_.emplace_back(settings_.response);
       solvers_.back().reset(world_.tissues[t]->settings.vertex_count());
     }
-  if (settings_.response.method == ResponseMethod::kSdf) {
+  bool any_solver_contact = false;
+  for (const auto& tissue : world_.tissues) any_solver_contact |= tissue->integrator.kind() == IntegratorKind::kXpbd;
+  if (settings_.response.method == ResponseMethod::kSdf || any_solver_contact)
     for (const InstrumentBody& body : world_.instruments) fields_.emplace_back(body.instrument.local_mesh());
+  // Tissues on the xpbd integrator solve their instrument contacts inside its substeps.
+  solver_contacts_.resize(nt);
+  all_solver_contact_ = nt > 0;
+  for (std::size_t t = 0; t < nt; ++t) {
+    TissueBody& tissue = *world_.tissues[t];
+    if (tissue.integrator.kind() != IntegratorKind::kXpbd) {
+      all_solver_contact_ = false;
+      continue;
+    }
+    std::vector<SolverInstrument> inputs;
+    for (std::size_t i = 0; i < ni; ++i)
+      inputs.push_back({&world_.instruments[i].instrument, &fields_[i], world_.instruments[i].thickness});
+    solver_contacts_[t] = std::make_unique<InstrumentContacts>();
+    solver_contacts_[t]->reset(tissue.settings.rest_positions, tissue.settings.triangles, tissue.settings.closed,
+                               inputs, settings_.response);
+    tissue.integrator.set_contacts(solver_contacts_[t].get());
+  }
+  if (settings_.response.method == ResponseMethod::kSdf) {
     projectors_.resize(ni * nt);
     for (std::size_t i = 0; i < ni; ++i)
       for (std::size_t t = 0; t < nt; ++t) {
@@ -242,6 +262,12 @@ const StepMetrics& Simulation::step(Real dt) {
 }
 
 void Simulation::detect() {
+  // Tissues on the xpbd integrator find their own contacts; with no other tissue, nothing
+  // needs the detector's triangle pairs.
+  if (all_solver_contact_) {
+    contacts_.clear();
+    return;
+  }
   // Detect when the detection clock is due (a small tolerance absorbs the rounding of summed
   // step sizes, so a period equal to k steps detects exactly every k-th step).
   const bool due = settings_.collision_period <= 0 || time_ >= next_detection_ - 1e-6 * settings_.collision_period;
@@ -268,6 +294,7 @@ void Simulation::respond() {
     InstrumentLoad total;
     for (std::size_t t = 0; t < nt; ++t) {
       TissueBody& tissue = *world_.tissues[t];
+      if (solver_contacts_[t]) continue;  // xpbd: contact inside the solver (deform)
       const TissueView view{tissue.state.positions, tissue.state.velocities, tissue.settings.triangles};
       InstrumentLoad pair;
       const ResponseStats stats = solver(i, t).apply(contacts_, static_cast<std::uint32_t>(i),
@@ -289,6 +316,17 @@ void Simulation::deform(Real dt) {
     const StepStats stats = tissue.integrator.step(tissue.state, tissue.loads, dt);
     metrics_.finite = metrics_.finite && stats.finite;
     metrics_.cg_iterations += static_cast<std::uint32_t>(stats.cg_iterations);
+    metrics_.substeps = std::max(metrics_.substeps, static_cast<std::uint32_t>(stats.substeps));
+    metrics_.constraint_error = std::max(metrics_.constraint_error, stats.constraint_error);
+    if (const InstrumentContacts* contacts = solver_contacts_[t].get()) {
+      metrics_.contacts += contacts->contacts();
+      metrics_.contacts_applied += contacts->contacts();
+      for (std::size_t i = 0; i < ni; ++i) {
+        loads_[i].raw_force += contacts->force(i);
+        loads_[i].raw_torque += contacts->torque(i);
+      }
+      continue;
+    }
     for (std::size_t i = 0; i < ni; ++i) {
       ResponseSolver& s = solver(i, t);
       s.apply_corrections(tissue.state.positions);
@@ -376,7 +414,10 @@ void Simulation::measure_penetration(std::size_t t) {
       if (c.kind != ContactKind::kInstrumentTissue || c.object_a != i || c.object_b != ni + t) continue;
       for (std::uint32_t v : body.instrument.triangles()[c.triangle_a]) touched[v] = 1;
     }
-    if (!projectors_.empty()) {  // method sdf: vertices whose contact the projection found itself
+    if (const InstrumentContacts* contacts = solver_contacts_[t].get()) {  // xpbd: the solver's contacts
+      const std::span<const std::uint8_t> hits = contacts->hits(i);
+      for (std::size_t v = 0; v < hits.size() && v < touched.size(); ++v) touched[v] |= hits[v];
+    } else if (!projectors_.empty()) {  // method sdf: vertices whose contact the projection found itself
       const std::span<const std::uint8_t> hits = projectors_[i * nt + t].instrument_hits();
       for (std::size_t v = 0; v < hits.size() && v < touched.size(); ++v) touched[v] |= hits[v];
     }

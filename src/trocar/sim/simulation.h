@@ -15,6 +15,7 @@
 #include "trocar/response/instrument_field.h"
 #include "trocar/response/response_solver.h"
 #include "trocar/response/settings.h"
+#include "trocar/response/solver_contact.h"
 #include "trocar/sim/sheet_boundary.h"
 #include "trocar/sim/world.h"
 
@@ -69,6 +70,9 @@ struct StepMetrics {
   Real max_speed = 0;                ///< fastest tissue vertex (m/s)
   bool finite = true;                ///< every position and velocity is finite
   std::uint32_t cg_iterations = 0;   ///< conjugate-gradient iterations of the implicit tissues
+  std::uint32_t substeps = 0;        ///< xpbd tissues: substeps (one constraint pass each)
+  /// Largest constraint error a tissue's solver left (StepStats::constraint_error).
+  Real constraint_error = 0;
   StageTimings timings;              ///< µs per stage
 };
 
@@ -166,7 +170,10 @@ class Simulation {
   std::vector<Contact> contacts_;            ///< this step's contacts
   std::vector<ResponseSolver> solvers_;      ///< per (instrument, tissue) pair
   std::vector<ContactProjector> projectors_; ///< per (instrument, tissue) pair (method sdf)
-  std::vector<InstrumentField> fields_;      ///< per instrument (method sdf; built once)
+  std::vector<InstrumentField> fields_;      ///< per instrument (method sdf or an xpbd tissue; built once)
+  /// Per tissue: its contact inside the xpbd solver (null for the other integrators).
+  std::vector<std::unique_ptr<InstrumentContacts>> solver_contacts_;
+  bool all_solver_contact_ = false;  ///< every tissue is on xpbd: no detection needed
   std::vector<InstrumentLoad> loads_;        ///< per instrument: this step's raw load, then clamped
   std::vector<InstrumentMetrics> instrument_metrics_;
   std::vector<std::unique_ptr<MeshDistance>> distances_;  ///< per tissue (null without metrics)

@@ -17,21 +17,26 @@ const char* integrator_name(IntegratorKind kind) {
     case IntegratorKind::kExplicitEuler: return "explicit-euler";
     case IntegratorKind::kSemiImplicitEuler: return "semi-implicit-euler";
     case IntegratorKind::kImplicitEuler: return "implicit-euler";
+    case IntegratorKind::kXpbd: return "xpbd";
   }
   return "unknown";
 }
 
 IntegratorKind integrator_from_name(std::string_view name) {
-  for (IntegratorKind kind :
-       {IntegratorKind::kExplicitEuler, IntegratorKind::kSemiImplicitEuler, IntegratorKind::kImplicitEuler})
+  for (IntegratorKind kind : {IntegratorKind::kExplicitEuler, IntegratorKind::kSemiImplicitEuler,
+                              IntegratorKind::kImplicitEuler, IntegratorKind::kXpbd})
     if (name == integrator_name(kind)) return kind;
   throw Error("unknown integrator \"" + std::string(name) +
-              "\" (valid: explicit-euler, semi-implicit-euler, implicit-euler)");
+              "\" (valid: explicit-euler, semi-implicit-euler, implicit-euler, xpbd)");
 }
 
 MassSpringIntegrator::MassSpringIntegrator(const MassSpringSettings& settings, IntegratorKind kind,
-                                           ImplicitOptions options)
+                                           ImplicitOptions options, XpbdOptions xpbd)
     : settings_(settings), kind_(kind), options_(options) {
+  if (kind == IntegratorKind::kXpbd) {
+    xpbd_ = std::make_unique<XpbdSolver>(settings, xpbd);
+    return;
+  }
   const std::size_t n = settings.vertex_count();
   free_.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
@@ -64,7 +69,7 @@ MassSpringIntegrator::MassSpringIntegrator(const MassSpringSettings& settings, I
 }
 
 void MassSpringIntegrator::build_passes() {
-  if (kind_ == IntegratorKind::kImplicitEuler || passes_built_) return;
+  if (kind_ == IntegratorKind::kImplicitEuler || kind_ == IntegratorKind::kXpbd || passes_built_) return;
   const std::size_t n = settings_.vertex_count();
   padded_.allocate(n, 5);
   pair_forces_ = padded_[0];
@@ -80,10 +85,12 @@ void MassSpringIntegrator::build_passes() {
 
 void MassSpringIntegrator::set_simd(bool on) {
   use_avx2_ = on && cpu_has_avx2_fma();
+  if (kind_ == IntegratorKind::kXpbd) return;
   if (!explicit_sweep()) build_passes();
 }
 
 void MassSpringIntegrator::set_explicit_sweep(bool on) {
+  if (kind_ == IntegratorKind::kXpbd) return;
   sweep_on_ = on && kind_ != IntegratorKind::kImplicitEuler && cpu_has_avx2_fma();
   if (sweep_on_ && !sweep_) sweep_ = std::make_unique<tissue_detail::ExplicitSweep>(settings_);
   if (!explicit_sweep()) build_passes();
@@ -96,6 +103,15 @@ StepStats MassSpringIntegrator::step(MassSpringState& state, const TissueLoads& 
     case IntegratorKind::kExplicitEuler: return step_explicit(state, loads, dt, false);
     case IntegratorKind::kSemiImplicitEuler: return step_explicit(state, loads, dt, true);
     case IntegratorKind::kImplicitEuler: return step_implicit(state, loads, dt);
+    case IntegratorKind::kXpbd: {
+      const XpbdStats x = xpbd_->step(state, loads, dt, contacts_);
+      StepStats stats;
+      stats.substeps = xpbd_->options().substeps;
+      stats.constraint_error = x.max_strain;
+      stats.volume_error = x.volume_error;
+      stats.finite = std::isfinite(x.max_strain);
+      return stats;
+    }
   }
   return {};
 }

@@ -12,6 +12,7 @@
 #include "trocar/tissue/forces.h"
 #include "trocar/tissue/settings.h"
 #include "trocar/tissue/state.h"
+#include "trocar/tissue/xpbd.h"
 
 namespace trocar {
 
@@ -20,9 +21,10 @@ enum class IntegratorKind {
   kExplicitEuler,      ///< x += h v; v += h a(x, v)           (the seed's)
   kSemiImplicitEuler,  ///< v += h a(x, v); x += h v          (symplectic)
   kImplicitEuler,      ///< backward Euler, one Newton step, CG (Baraff & Witkin 1998)
+  kXpbd,               ///< XPBD with substeps, contact inside the solver (xpbd.h)
 };
 
-/// "explicit-euler", "semi-implicit-euler", "implicit-euler".
+/// "explicit-euler", "semi-implicit-euler", "implicit-euler", "xpbd".
 const char* integrator_name(IntegratorKind kind);
 /// Parses the names above; throws trocar::Error listing the valid names.
 IntegratorKind integrator_from_name(std::string_view name);
@@ -41,12 +43,18 @@ struct StepStats {
   int cg_iterations = 0;         ///< implicit only
   Real cg_residual = 0;          ///< implicit only: final relative residual
   bool finite = true;            ///< false when a position or velocity became non-finite
+  int substeps = 0;              ///< xpbd only: substeps (one constraint pass each)
+  /// Relative constraint error left by the step: implicit, the CG's relative residual; xpbd,
+  /// the largest spring strain |l − l0|/l0 after the last pass.
+  Real constraint_error = 0;
+  Real volume_error = 0;         ///< xpbd only: |V − V0|/V0 after the step (closed, volume term on)
 };
 
 /// Steps one tissue. Holds scratch buffers sized at construction, so step() never allocates.
 class MassSpringIntegrator {
  public:
-  MassSpringIntegrator(const MassSpringSettings& settings, IntegratorKind kind, ImplicitOptions options = {});
+  MassSpringIntegrator(const MassSpringSettings& settings, IntegratorKind kind, ImplicitOptions options = {},
+                       XpbdOptions xpbd = {});
 
   /// Advances `state` by dt seconds under the internal forces and `loads` (external forces,
   /// and for the implicit integrator also the contacts' Jacobians). Fixed vertices keep
@@ -54,6 +62,10 @@ class MassSpringIntegrator {
   StepStats step(MassSpringState& state, const TissueLoads& loads, Real dt);
 
   IntegratorKind kind() const { return kind_; }
+  /// xpbd: the contact handler every step solves inside its substeps (null: none). Not owned.
+  void set_contacts(XpbdContacts* contacts) { contacts_ = contacts; }
+  /// xpbd: the solver (null for the other kinds).
+  XpbdSolver* xpbd() { return xpbd_.get(); }
   const MassSpringSettings& settings() const { return settings_; }
   ForceTerms& terms() { return terms_; }  ///< which force terms are on (all by default)
   /// Whether the AVX2+FMA passes run (default: when the CPU has them). Off forces the portable
@@ -104,6 +116,8 @@ class MassSpringIntegrator {
 
   const MassSpringSettings& settings_;
   IntegratorKind kind_;
+  std::unique_ptr<XpbdSolver> xpbd_;   ///< xpbd only
+  XpbdContacts* contacts_ = nullptr;   ///< xpbd only
   ImplicitOptions options_;
   ForceTerms terms_;
   // Scratch of the portable implicit solve, sized V at construction for the implicit kind:

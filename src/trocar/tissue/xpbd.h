@@ -1,0 +1,134 @@
+#pragma once
+/// Extended position-based dynamics with substeps (XPBD): the mass-spring tissue's springs, area
+/// and volume terms as compliant constraints, solved one Gauss–Seidel pass per substep
+/// (Macklin, Müller, Chentanez, "XPBD: position-based simulation of compliant constrained
+/// dynamics", MIG 2016; Macklin et al., "Small steps in physics simulation", SCA 2019), with
+/// contact solved inside every substep by a handler (response/solver_contact.h).
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "trocar/core/types.h"
+#include "trocar/tissue/settings.h"
+#include "trocar/tissue/state.h"
+
+namespace trocar {
+
+/// One particle as the solver holds it: position (m, float) and inverse mass (1/kg; 0 = does not
+/// move). 16 bytes, so one aligned load reads a vertex.
+struct alignas(16) XpbdParticle {
+  float x = 0, y = 0, z = 0;
+  float w = 0;  ///< inverse mass
+};
+
+/// What a contact handler sees of the solver during a substep.
+struct XpbdView {
+  std::span<XpbdParticle> x;               ///< positions now (the handler moves free ones in place)
+  std::span<const XpbdParticle> previous;  ///< positions at the start of this substep
+  std::span<const Real> masses;            ///< m_i (kg)
+  std::span<const Triangle> triangles;     ///< the tissue's outward surface
+};
+
+/// Contact inside the solver: called once before the substeps and once at the end of each
+/// substep, after the internal constraints, so a vertex ends every substep outside the
+/// instruments. Implementations must not allocate in these calls after their first step.
+class XpbdContacts {
+ public:
+  virtual ~XpbdContacts() = default;
+  /// Before the substeps, with the step's start positions: find candidates, grasp or release
+  /// (a grasped vertex gets w = 0 here and is placed by solve()).
+  virtual void begin_step(const XpbdView& view, Real dt, int substeps) = 0;
+  /// Substep `substep` of `substeps` (0-based), of length h (s): project the contacts.
+  virtual void solve(const XpbdView& view, int substep, int substeps, Real h) = 0;
+  /// After the substep's velocities v = (x − x_start)/h: the contacts' velocity pass (an
+  /// inelastic contact keeps no separating speed from its position correction; Müller et al.
+  /// 2020 §3.6).
+  virtual void solve_velocities(std::span<float> vx, std::span<float> vy, std::span<float> vz) = 0;
+};
+
+/// Options of the XPBD solver (scene key `solver`, docs/tissue.md "XPBD").
+struct XpbdOptions {
+  /// Substeps per step, one constraint pass each ("Small steps": more substeps beat more
+  /// iterations for the same cost). ≥ 1.
+  int substeps = 4;
+};
+
+/// What one XPBD step measured.
+struct XpbdStats {
+  /// The largest |C| over the springs after the last substep, relative to the rest length
+  /// (strain left unresolved by the pass; with soft springs it is the spring's real strain).
+  Real max_strain = 0;
+  /// |V − V0|/V0 after the step (0 for open meshes or without the volume term).
+  Real volume_error = 0;
+};
+
+/// Steps one tissue with XPBD. Built once from the settings; step() never allocates.
+///
+/// Constraints and their compliance α (the inverse of the stiffness the energy gives, so a
+/// scene means the same organ under every integrator: tissue/forces.h):
+///  - each spring (structural and bending): C = |x_i − x_j| − l_ij, α = 1/k_ij; its damping
+///    λ_ij (N·s/m) as XPBD's constraint damping, γ = α λ_ij / h (XPBD eq. 26);
+///  - each triangle (k_area > 0): C = A − A0, α = Ā0 / k_area (energy ½ k_area (A − A0)²/Ā0);
+///  - the volume (closed, k_volume > 0): C = V − V0, α = V0 / k_volume;
+///  - home springs (k_home > 0): C = |x − x0|, α = 1/k_home.
+/// Each substep: v ← (v + h (g + f/m)) / (1 + hγ) (the mass-proportional damping γ implicitly);
+/// x ← x + h v; one pass over the springs in colour order (no two springs of a colour share a
+/// vertex), the triangles in colour order, the volume, the home springs; then the contact
+/// handler; v ← (x − x_start)/h. The Lagrange multipliers start at zero each substep (one
+/// iteration: "Small steps" §4).
+class XpbdSolver {
+ public:
+  XpbdSolver(const MassSpringSettings& settings, XpbdOptions options = {});
+
+  /// Advances `state` by dt (s) under the constraints, gravity, `loads`' forces (their Jacobians
+  /// are not used) and, when given, the contact handler. Fixed vertices keep their position bit
+  /// for bit and zero velocity.
+  XpbdStats step(MassSpringState& state, const TissueLoads& loads, Real dt, XpbdContacts* contacts);
+
+  const XpbdOptions& options() const { return options_; }
+  void set_substeps(int substeps) { options_.substeps = substeps < 1 ? 1 : substeps; }
+  std::size_t spring_colours() const { return spring_colour_start_.size() - 1; }    ///< colours
+  std::size_t triangle_colours() const { return triangle_colour_start_.size() - 1; }  ///< colours
+
+ private:
+  /// One spring as the pass reads it (16 bytes).
+  struct SpringConstraint {
+    std::uint32_t i, j;
+    float rest;        ///< l_ij (m)
+    float compliance;  ///< α = 1/k (m/N)
+  };
+  struct TriangleConstraint {
+    std::uint32_t v[3];
+    float rest_area;  ///< A0 (m²)
+  };
+  void solve_springs(float h, float inv_h2, bool last);
+  void solve_triangles(float inv_h2);
+  void solve_volume(float inv_h2);
+  void solve_home(float inv_h2);
+
+  const MassSpringSettings& settings_;
+  XpbdOptions options_;
+  std::vector<XpbdParticle> x_, previous_;
+  std::vector<float> vx_, vy_, vz_;           ///< velocities (m/s)
+  std::vector<float> inverse_masses_;         ///< from the settings (0 at fixed vertices)
+  std::vector<float> spring_damping_;         ///< λ_ij (N·s/m), per spring in pass order
+  std::vector<SpringConstraint> springs_;     ///< colour by colour
+  std::vector<std::size_t> spring_colour_start_;
+  std::vector<TriangleConstraint> triangles_; ///< colour by colour (area term)
+  std::vector<std::size_t> triangle_colour_start_;
+  std::vector<Vec3> volume_gradient_;         ///< ∂V/∂x_i scratch (double: a sum over the surface)
+  std::vector<std::uint32_t> fixed_;          ///< fixed vertex ids
+  std::vector<Vec3> fixed_positions_;
+  float area_compliance_ = 0;                 ///< Ā0 / k_area (0: off)
+  double volume_compliance_ = 0;              ///< V0 / k_volume (0: off)
+  float home_compliance_ = 0;                 ///< 1/k_home (0: off)
+  Real max_strain_ = 0;
+};
+
+/// Greedy colouring of `items` (each a set of `arity` vertex ids) so that no two items of a
+/// colour share a vertex: items are visited in order and take the lowest colour none of their
+/// vertices has yet. Returns each item's colour; `colour_count` gets the number of colours.
+std::vector<std::uint32_t> colour_items(std::span<const std::uint32_t> vertex_ids, std::size_t arity,
+                                        std::size_t vertex_count, std::size_t& colour_count);
+
+}  // namespace trocar
