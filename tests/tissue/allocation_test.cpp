@@ -42,7 +42,7 @@ TEST(IntegratorAllocation, StepNeverAllocates) {
   };
   for (const Run run : {Run{IntegratorKind::kExplicitEuler, false}, Run{IntegratorKind::kSemiImplicitEuler, false},
                         Run{IntegratorKind::kExplicitEuler, true}, Run{IntegratorKind::kSemiImplicitEuler, true},
-                        Run{IntegratorKind::kImplicitEuler, false}}) {
+                        Run{IntegratorKind::kImplicitEuler, false}, Run{IntegratorKind::kXpbd, false}}) {
     const IntegratorKind kind = run.kind;
     const MassSpringSettings& s = run.sweep ? s_no_area : s_area;
     MassSpringState state = MassSpringState::at_rest(s);

@@ -168,7 +168,6 @@ void InstrumentContacts::update_grasp(PerInstrument& p, const XpbdView& view) {
     p.held.push_back({v, q});
     is_held_[v] = 1;
   }
-  for (const HeldVertex& h : p.held) view.x[h.vertex].w = 0.f;
 }
 
 void InstrumentContacts::find_pairs(PerInstrument& p, const XpbdView& view) {
@@ -254,7 +253,16 @@ void InstrumentContacts::solve(const XpbdView& view, int substep, int substeps, 
     if (p.in.instrument == nullptr || p.in.field == nullptr || p.in.field->empty()) continue;
     const Pose pose = interpolate_pose(p.from, p.to, static_cast<Real>(substep + 1) / substeps);
     const Pose before = interpolate_pose(p.from, p.to, static_cast<Real>(substep) / substeps);
-    for (const HeldVertex& held : p.held) store(view.x[held.vertex], pose.apply(held.local));
+    // Held vertices: an attachment of zero compliance, solved last; the tissue's pull on the
+    // jaws is the correction it takes (−m Δx/h² per substep, as for a contact).
+    for (const HeldVertex& held : p.held) {
+      XpbdParticle& particle = view.x[held.vertex];
+      const Vec3 x = position(particle), attached = pose.apply(held.local);
+      store(particle, attached);
+      const Vec3 impulse = (attached - x) * (view.masses[held.vertex] * inv_h2 / substeps_);
+      p.force -= impulse;
+      p.torque += (attached - p.to.translation).cross(-impulse);
+    }
     if (!p.pairs.empty()) {
       const std::span<const Vec3> samples = p.in.field->samples();
       p.sample_world.resize(p.samples.size());
@@ -391,15 +399,15 @@ void InstrumentContacts::project_vertices(PerInstrument& p, const XpbdView& view
   }
 }
 
-void InstrumentContacts::solve_velocities(std::span<float> vx, std::span<float> vy, std::span<float> vz) {
+void InstrumentContacts::solve_velocities(std::span<XpbdParticle> velocities) {
   for (const Moved& m : moved_) {
-    const std::uint32_t v = m.vertex;
-    const float along = vx[v] * m.nx + vy[v] * m.ny + vz[v] * m.nz;
+    XpbdParticle& u = velocities[m.vertex];
+    const float along = u.x * m.nx + u.y * m.ny + u.z * m.nz;
     if (along <= m.speed) continue;
     const float excess = along - m.speed;
-    vx[v] -= excess * m.nx;
-    vy[v] -= excess * m.ny;
-    vz[v] -= excess * m.nz;
+    u.x -= excess * m.nx;
+    u.y -= excess * m.ny;
+    u.z -= excess * m.nz;
   }
 }
 

@@ -54,7 +54,8 @@ struct HeldVertex {
 ///      position based dynamics", SCA 2020, §3.5; Macklin et al. 2014 §6.1): the vertex's slip
 ///      over the substep relative to the instrument, tangential part t, is undone while
 ///      |t| ≤ μs·|Δx_n|, else shortened by μk·|Δx_n|.
-///  Grasped vertices (w = 0) are placed at P_s(local).
+///  Grasped vertices are placed at P_s(local) first (an attachment of zero compliance, after the
+///  tissue's constraints moved them; its correction is their pull on the jaws).
 /// Force on the instrument: −Σ m Δx / h² over the corrections of all substeps, divided by n
 /// (the mean constraint force over the step); torque about the current pose's origin.
 class InstrumentContacts final : public XpbdContacts {
@@ -78,7 +79,7 @@ class InstrumentContacts final : public XpbdContacts {
   void solve(const XpbdView& view, int substep, int substeps, Real h) override;
   /// Each vertex a contact moved this substep keeps at most the instrument's speed along the
   /// contact normal (inelastic: the correction adds no separating speed).
-  void solve_velocities(std::span<float> vx, std::span<float> vy, std::span<float> vz) override;
+  void solve_velocities(std::span<XpbdParticle> velocities) override;
 
   /// Force on instrument i over the last step (N, unclamped) and its torque about the pose
   /// origin (N·m).

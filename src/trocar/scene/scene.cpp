@@ -101,12 +101,18 @@ IntegratorKind read_integrator(const JsonReader& obj) {
 
 void read_tissue(const JsonReader& t, std::size_t index, Scene& scene, const std::filesystem::path& dir) {
   t.expect_keys({"name", "mesh", "scale", "translate", "rotate_deg", "repair", "material", "fixed", "integrator",
-                 "texture"});
+                 "substeps", "texture"});
   const std::string name = name_or(t, "tissue", index);
   const TriMesh file_mesh = placed_mesh(t, dir);
   const MassSpringMaterial material = t.has("material") ? read_material(t.at("material")) : MassSpringMaterial{};
   FixedSelection fixed = t.has("fixed") ? read_fixed(t.at("fixed"), file_mesh.vertex_count()) : FixedSelection{};
   const IntegratorKind kind = read_integrator(t);
+  int substeps = 0;  // 0: the solver's default
+  if (t.has("substeps")) {
+    const JsonReader r = t.at("substeps");
+    if (kind != IntegratorKind::kXpbd) r.fail("applies to the xpbd integrator only");
+    substeps = static_cast<int>(r.integer(1, 64));
+  }
   try {
     // The tissue's vertices are renumbered for memory locality (mesh/renumber.h: its steps run
     // 3-5 % faster); `fixed.indices` name vertices in the file's order, so they follow.
@@ -114,7 +120,8 @@ void read_tissue(const JsonReader& t, std::size_t index, Scene& scene, const std
     const TriMesh mesh = renumber_vertices(file_mesh, order);
     const std::vector<std::uint32_t> new_index = inverse_order(order);
     for (std::uint32_t& v : fixed.indices) v = new_index[v];
-    scene.world.add_tissue(name, mesh, material, fixed, scene.gravity, kind);
+    TissueBody& tissue = scene.world.add_tissue(name, mesh, material, fixed, scene.gravity, kind);
+    if (substeps > 0) tissue.integrator.xpbd()->set_substeps(substeps);
   } catch (const Error& e) {
     t.fail(e.what());
   }

@@ -1,30 +1,15 @@
-// XPBD with substeps (xpbd.h). The passes are scalar Gauss–Seidel over float particles in
-// colour order; the colouring is what lets a pass vectorise or run on a GPU later.
+// XPBD with substeps (xpbd.h). The passes are Gauss–Seidel over float particles in colour order;
+// within a colour no two constraints share a particle, so 8 run at once (xpbd_kernels.h).
 #include "trocar/tissue/xpbd.h"
 
 #include <algorithm>
 #include <cmath>
 
+#include "trocar/core/cpu_features.h"
 #include "trocar/core/error.h"
+#include "trocar/tissue/xpbd_kernels.h"
 
 namespace trocar {
-namespace {
-
-struct F3 {
-  float x, y, z;
-};
-inline F3 sub(const XpbdParticle& a, const XpbdParticle& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-inline F3 cross(const F3& a, const F3& b) {
-  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
-}
-inline float dot(const F3& a, const F3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-inline void add_scaled(XpbdParticle& p, const F3& d, float s) {
-  p.x += d.x * s;
-  p.y += d.y * s;
-  p.z += d.z * s;
-}
-
-}  // namespace
 
 std::vector<std::uint32_t> colour_items(std::span<const std::uint32_t> vertex_ids, std::size_t arity,
                                         std::size_t vertex_count, std::size_t& colour_count) {
@@ -62,11 +47,9 @@ XpbdSolver::XpbdSolver(const MassSpringSettings& settings, XpbdOptions options)
     : settings_(settings), options_(options) {
   if (options_.substeps < 1) throw Error("xpbd: substeps must be at least 1");
   const std::size_t n = settings.vertex_count();
-  x_.resize(n);
-  previous_.resize(n);
-  vx_.assign(n, 0.f);
-  vy_.assign(n, 0.f);
-  vz_.assign(n, 0.f);
+  x_.resize(n + 1);
+  previous_.resize(n + 1);
+  v_.resize(n + 1);
   inverse_masses_.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     const Vec3& r = settings.rest_positions[i];
@@ -76,7 +59,9 @@ XpbdSolver::XpbdSolver(const MassSpringSettings& settings, XpbdOptions options)
   }
   fixed_positions_.resize(fixed_.size());
 
-  // Springs with a stiffness, coloured, each colour sorted by its first vertex (memory order).
+  // Springs with a stiffness, coloured; each colour sorted by its first vertex (memory order)
+  // and padded to a multiple of 8 with springs from the padding particle to itself.
+  const auto padding = static_cast<std::uint32_t>(n);
   std::vector<std::uint32_t> ids;
   std::vector<std::size_t> kept;
   for (std::size_t s = 0; s < settings.springs.size(); ++s) {
@@ -88,22 +73,33 @@ XpbdSolver::XpbdSolver(const MassSpringSettings& settings, XpbdOptions options)
     kept.push_back(s);
   }
   std::size_t colours = 0;
-  std::vector<std::uint32_t> colour = colour_items(ids, 2, n, colours);
+  const std::vector<std::uint32_t> colour = colour_items(ids, 2, n, colours);
   std::vector<std::size_t> order(kept.size());
   for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
   std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
     return colour[a] != colour[b] ? colour[a] < colour[b] : ids[2 * a] < ids[2 * b];
   });
-  spring_colour_start_.assign(colours + 1, 0);
-  for (const std::size_t k : order) {
-    const Spring& sp = settings.springs[kept[k]];
-    springs_.push_back({sp.i, sp.j, static_cast<float>(sp.rest_length), static_cast<float>(1.0 / sp.stiffness)});
-    spring_damping_.push_back(static_cast<float>(sp.damping));
-    ++spring_colour_start_[colour[k] + 1];
+  spring_colour_start_.assign(1, 0);
+  for (std::size_t k = 0, c = 0; c < colours; ++c) {
+    for (; k < order.size() && colour[order[k]] == c; ++k) {
+      const Spring& sp = settings.springs[kept[order[k]]];
+      spring_i_.push_back(sp.i);
+      spring_j_.push_back(sp.j);
+      spring_rest_.push_back(static_cast<float>(sp.rest_length));
+      spring_compliance_.push_back(static_cast<float>(1.0 / sp.stiffness));
+      spring_damping_.push_back(static_cast<float>(sp.damping));
+    }
+    while (spring_i_.size() % 8 != 0) {
+      spring_i_.push_back(padding);
+      spring_j_.push_back(padding);
+      spring_rest_.push_back(1.f);
+      spring_compliance_.push_back(1.f);
+      spring_damping_.push_back(0.f);
+    }
+    spring_colour_start_.push_back(spring_i_.size());
   }
-  for (std::size_t c = 0; c < colours; ++c) spring_colour_start_[c + 1] += spring_colour_start_[c];
 
-  // Triangles of the area term, coloured the same way.
+  // Triangles of the area term, coloured and padded the same way.
   triangle_colour_start_.assign(1, 0);
   if (settings.k_area > 0 && settings.mean_rest_area > 0) {
     area_compliance_ = static_cast<float>(settings.mean_rest_area / settings.k_area);
@@ -114,33 +110,43 @@ XpbdSolver::XpbdSolver(const MassSpringSettings& settings, XpbdOptions options)
     std::vector<std::size_t> torder(settings.triangles.size());
     for (std::size_t k = 0; k < torder.size(); ++k) torder[k] = k;
     std::stable_sort(torder.begin(), torder.end(), [&](std::size_t a, std::size_t b) { return tcol[a] < tcol[b]; });
-    triangle_colour_start_.assign(tc + 1, 0);
-    for (const std::size_t k : torder) {
-      const Triangle& t = settings.triangles[k];
-      triangles_.push_back({{t[0], t[1], t[2]}, static_cast<float>(settings.rest_areas[k])});
-      ++triangle_colour_start_[tcol[k] + 1];
+    for (std::size_t k = 0, c = 0; c < tc; ++c) {
+      for (; k < torder.size() && tcol[torder[k]] == c; ++k) {
+        const Triangle& t = settings.triangles[torder[k]];
+        triangle_v0_.push_back(t[0]);
+        triangle_v1_.push_back(t[1]);
+        triangle_v2_.push_back(t[2]);
+        triangle_rest_.push_back(static_cast<float>(settings.rest_areas[torder[k]]));
+      }
+      while (triangle_v0_.size() % 8 != 0) {
+        triangle_v0_.push_back(padding);
+        triangle_v1_.push_back(padding);
+        triangle_v2_.push_back(padding);
+        triangle_rest_.push_back(0.f);
+      }
+      triangle_colour_start_.push_back(triangle_v0_.size());
     }
-    for (std::size_t c = 0; c < tc; ++c) triangle_colour_start_[c + 1] += triangle_colour_start_[c];
   }
   if (settings.closed && settings.k_volume > 0 && settings.rest_volume > 0) {
     volume_compliance_ = settings.rest_volume / settings.k_volume;
-    volume_gradient_.assign(n, Vec3::Zero());
+    volume_gradient_.assign(3 * n, 0.f);
   }
   if (settings.k_home > 0) home_compliance_ = static_cast<float>(1.0 / settings.k_home);
+  avx2_ = cpu_has_avx2_fma();
 }
 
+void XpbdSolver::set_simd(bool on) { avx2_ = on && cpu_has_avx2_fma(); }
+
 XpbdStats XpbdSolver::step(MassSpringState& state, const TissueLoads& loads, Real dt, XpbdContacts* contacts) {
-  const std::size_t n = x_.size();
+  const std::size_t n = x_.size() - 1;  // the padding particle stays at the origin, w = 0
   for (std::size_t k = 0; k < fixed_.size(); ++k) fixed_positions_[k] = state.positions[fixed_[k]];
   for (std::size_t i = 0; i < n; ++i) {
     const Vec3& p = state.positions[i];
     const Vec3& v = state.velocities[i];
     x_[i] = {static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()), inverse_masses_[i]};
-    vx_[i] = static_cast<float>(v.x());
-    vy_[i] = static_cast<float>(v.y());
-    vz_[i] = static_cast<float>(v.z());
+    v_[i] = {static_cast<float>(v.x()), static_cast<float>(v.y()), static_cast<float>(v.z()), 0.f};
   }
-  const XpbdView view{x_, previous_, settings_.masses, settings_.triangles};
+  const XpbdView view{std::span(x_).first(n), std::span(previous_).first(n), settings_.masses, settings_.triangles};
   const int substeps = options_.substeps;
   if (contacts != nullptr) contacts->begin_step(view, dt, substeps);
 
@@ -157,41 +163,46 @@ XpbdStats XpbdSolver::step(MassSpringState& state, const TissueLoads& loads, Rea
     if (!forces.empty())
       for (const std::uint32_t v : loads.loaded_vertices()) {
         const float hw = h * x_[v].w;
-        vx_[v] += hw * static_cast<float>(forces[v].x());
-        vy_[v] += hw * static_cast<float>(forces[v].y());
-        vz_[v] += hw * static_cast<float>(forces[v].z());
+        v_[v].x += hw * static_cast<float>(forces[v].x());
+        v_[v].y += hw * static_cast<float>(forces[v].y());
+        v_[v].z += hw * static_cast<float>(forces[v].z());
       }
     for (std::size_t i = 0; i < n; ++i) {
       XpbdParticle& p = x_[i];
       previous_[i] = p;
       if (p.w == 0.f) continue;
-      vx_[i] = (vx_[i] + gx) * damp;
-      vy_[i] = (vy_[i] + gy) * damp;
-      vz_[i] = (vz_[i] + gz) * damp;
-      p.x += h * vx_[i];
-      p.y += h * vy_[i];
-      p.z += h * vz_[i];
+      XpbdParticle& u = v_[i];
+      u.x = (u.x + gx) * damp;
+      u.y = (u.y + gy) * damp;
+      u.z = (u.z + gz) * damp;
+      p.x += h * u.x;
+      p.y += h * u.y;
+      p.z += h * u.z;
     }
-    solve_springs(h, inv_h2, s + 1 == substeps);
+    solve_springs(inv_h2, s + 1 == substeps);
     if (area_compliance_ > 0) solve_triangles(inv_h2);
-    if (volume_compliance_ > 0) solve_volume(inv_h2);
+    // The volume term once per step, on the last substep, with α̃ = α/(h·dt): one global
+    // constraint whose pass costs as much as the springs', and soft at the step's rate; α/(h·dt)
+    // gives its correction the impulse of a whole step (Δv = Δx/h = dt·F/m).
+    if (volume_compliance_ > 0 && s + 1 == substeps) solve_volume(inv_h / static_cast<float>(dt));
     if (home_compliance_ > 0) solve_home(inv_h2);
     if (contacts != nullptr) contacts->solve(view, s, substeps, h);
     for (std::size_t i = 0; i < n; ++i) {
-      vx_[i] = (x_[i].x - previous_[i].x) * inv_h;
-      vy_[i] = (x_[i].y - previous_[i].y) * inv_h;
-      vz_[i] = (x_[i].z - previous_[i].z) * inv_h;
+      v_[i].x = (x_[i].x - previous_[i].x) * inv_h;
+      v_[i].y = (x_[i].y - previous_[i].y) * inv_h;
+      v_[i].z = (x_[i].z - previous_[i].z) * inv_h;
     }
-    if (contacts != nullptr) contacts->solve_velocities(vx_, vy_, vz_);
+    if (contacts != nullptr) contacts->solve_velocities(std::span(v_).first(n));
   }
+  damp_springs(static_cast<float>(dt));
 
   XpbdStats stats;
   stats.max_strain = max_strain_;
   bool finite = true;
   for (std::size_t i = 0; i < n; ++i) {
     state.positions[i] = Vec3(x_[i].x, x_[i].y, x_[i].z);
-    state.velocities[i] = Vec3(vx_[i], vy_[i], vz_[i]);
-    finite = finite && std::isfinite(x_[i].x + x_[i].y + x_[i].z + vx_[i] + vy_[i] + vz_[i]);
+    state.velocities[i] = Vec3(v_[i].x, v_[i].y, v_[i].z);
+    finite = finite && std::isfinite(x_[i].x + x_[i].y + x_[i].z + v_[i].x + v_[i].y + v_[i].z);
   }
   for (std::size_t k = 0; k < fixed_.size(); ++k) {
     state.positions[fixed_[k]] = fixed_positions_[k];
@@ -207,89 +218,84 @@ XpbdStats XpbdSolver::step(MassSpringState& state, const TissueLoads& loads, Rea
   return stats;
 }
 
-void XpbdSolver::solve_springs(float h, float inv_h2, bool last) {
+tissue_detail::XpbdSpringColour XpbdSolver::spring_colour(std::size_t c) const {
+  const std::size_t begin = spring_colour_start_[c];
+  return {spring_i_.data() + begin,         spring_j_.data() + begin,      spring_rest_.data() + begin,
+          spring_compliance_.data() + begin, spring_damping_.data() + begin, spring_colour_start_[c + 1] - begin};
+}
+
+void XpbdSolver::damp_springs(float h) {
+  for (std::size_t c = 0; c + 1 < spring_colour_start_.size(); ++c) {
+    if (avx2_)
+      tissue_detail::xpbd_dashpots_avx2(x_.data(), v_.data(), spring_colour(c), h);
+    else
+      tissue_detail::xpbd_dashpots_scalar(x_.data(), v_.data(), spring_colour(c), h);
+  }
+}
+
+void XpbdSolver::solve_springs(float inv_h2, bool last) {
   float worst = 0;
-  const float inv_h = 1.f / h;
-  for (std::size_t k = 0; k < springs_.size(); ++k) {
-    const SpringConstraint& c = springs_[k];
-    XpbdParticle& a = x_[c.i];
-    XpbdParticle& b = x_[c.j];
-    const float w = a.w + b.w;
-    if (w == 0.f) continue;
-    const F3 d = sub(a, b);
-    const float length = std::sqrt(dot(d, d));
-    if (!(length > 1e-12f)) continue;
-    const float inv_length = 1.f / length;
-    const F3 u{d.x * inv_length, d.y * inv_length, d.z * inv_length};
-    const float constraint = length - c.rest;
-    const float alpha = c.compliance * inv_h2;
-    // XPBD eq. 26: γ = α̃ β̃ / h = α λ / h; the relative motion this substep along u.
-    const float gamma = c.compliance * spring_damping_[k] * inv_h;
-    const XpbdParticle& pa = previous_[c.i];
-    const XpbdParticle& pb = previous_[c.j];
-    const F3 motion{(a.x - pa.x) - (b.x - pb.x), (a.y - pa.y) - (b.y - pb.y), (a.z - pa.z) - (b.z - pb.z)};
-    const float dlambda = (-constraint - gamma * dot(u, motion)) / ((1.f + gamma) * w + alpha);
-    add_scaled(a, u, a.w * dlambda);
-    add_scaled(b, u, -b.w * dlambda);
-    if (last) worst = std::max(worst, std::abs(constraint) / c.rest);
+  for (std::size_t c = 0; c + 1 < spring_colour_start_.size(); ++c) {
+    const tissue_detail::XpbdSpringColour colour = spring_colour(c);
+    const float w = avx2_ ? tissue_detail::xpbd_springs_avx2(x_.data(), colour, inv_h2, last)
+                          : tissue_detail::xpbd_springs_scalar(x_.data(), colour, inv_h2, last);
+    worst = std::max(worst, w);
   }
   if (last) max_strain_ = worst;
 }
 
 void XpbdSolver::solve_triangles(float inv_h2) {
   const float alpha = area_compliance_ * inv_h2;
-  for (const TriangleConstraint& t : triangles_) {
-    XpbdParticle& p0 = x_[t.v[0]];
-    XpbdParticle& p1 = x_[t.v[1]];
-    XpbdParticle& p2 = x_[t.v[2]];
-    const F3 normal = cross(sub(p1, p0), sub(p2, p0));
-    const float twice_area = std::sqrt(dot(normal, normal));
-    if (!(twice_area > 1e-20f)) continue;
-    const float s = 0.5f / twice_area;  // ∂A/∂x_a = ½ n̂ × (x_c − x_b), (a, b, c) cyclic
-    const F3 g0 = cross(normal, sub(p2, p1));
-    const F3 g1 = cross(normal, sub(p0, p2));
-    const F3 g2 = cross(normal, sub(p1, p0));
-    const float denominator =
-        s * s * (p0.w * dot(g0, g0) + p1.w * dot(g1, g1) + p2.w * dot(g2, g2)) + alpha;
-    if (!(denominator > 0.f)) continue;
-    const float dlambda = -(0.5f * twice_area - t.rest_area) / denominator * s;
-    add_scaled(p0, g0, p0.w * dlambda);
-    add_scaled(p1, g1, p1.w * dlambda);
-    add_scaled(p2, g2, p2.w * dlambda);
+  for (std::size_t c = 0; c + 1 < triangle_colour_start_.size(); ++c) {
+    const std::size_t begin = triangle_colour_start_[c];
+    const tissue_detail::XpbdTriangleColour colour{triangle_v0_.data() + begin, triangle_v1_.data() + begin,
+                                                   triangle_v2_.data() + begin, triangle_rest_.data() + begin,
+                                                   triangle_colour_start_[c + 1] - begin};
+    if (avx2_)
+      tissue_detail::xpbd_triangles_avx2(x_.data(), colour, alpha);
+    else
+      tissue_detail::xpbd_triangles_scalar(x_.data(), colour, alpha);
   }
 }
 
-void XpbdSolver::solve_volume(float inv_h2) {
-  std::fill(volume_gradient_.begin(), volume_gradient_.end(), Vec3::Zero());
-  double volume = 0;
+void XpbdSolver::solve_volume(float inv_h_dt) {
+  // ∂(6V)/∂x_a = x_b × x_c (and cyclically), summed per vertex in float; V itself in double.
+  std::fill(volume_gradient_.begin(), volume_gradient_.end(), 0.f);
+  double six_volume = 0;
+  float* g = volume_gradient_.data();
   for (const Triangle& t : settings_.triangles) {
-    const Vec3 a(x_[t[0]].x, x_[t[0]].y, x_[t[0]].z);
-    const Vec3 b(x_[t[1]].x, x_[t[1]].y, x_[t[1]].z);
-    const Vec3 c(x_[t[2]].x, x_[t[2]].y, x_[t[2]].z);
-    const Vec3 bc = b.cross(c);
-    volume += a.dot(bc);
-    volume_gradient_[t[0]] += bc;  // ∂(a·(b×c))/∂a = b×c, and cyclically
-    volume_gradient_[t[1]] += c.cross(a);
-    volume_gradient_[t[2]] += a.cross(b);
+    const XpbdParticle& a = x_[t[0]];
+    const XpbdParticle& b = x_[t[1]];
+    const XpbdParticle& c = x_[t[2]];
+    const float bc[3] = {b.y * c.z - b.z * c.y, b.z * c.x - b.x * c.z, b.x * c.y - b.y * c.x};
+    const float ca[3] = {c.y * a.z - c.z * a.y, c.z * a.x - c.x * a.z, c.x * a.y - c.y * a.x};
+    const float ab[3] = {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+    six_volume += static_cast<double>(a.x * bc[0] + a.y * bc[1] + a.z * bc[2]);
+    for (int k = 0; k < 3; ++k) {
+      g[3 * t[0] + k] += bc[k];
+      g[3 * t[1] + k] += ca[k];
+      g[3 * t[2] + k] += ab[k];
+    }
   }
-  volume /= 6;
-  double denominator = volume_compliance_ * inv_h2;
-  for (std::size_t i = 0; i < x_.size(); ++i)
-    denominator += x_[i].w * volume_gradient_[i].squaredNorm() / 36;
+  const std::size_t n = x_.size() - 1;
+  double weighted = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    weighted += x_[i].w * (g[3 * i] * g[3 * i] + g[3 * i + 1] * g[3 * i + 1] + g[3 * i + 2] * g[3 * i + 2]);
+  // C = V − V0 with ∇V = g/6: Δλ = −C / (Σ w |g|²/36 + α̃), Δx_i = w_i (g_i/6) Δλ.
+  const double denominator = weighted / 36 + volume_compliance_ * inv_h_dt;
   if (!(denominator > 0)) return;
-  const double dlambda = -(volume - settings_.rest_volume) / denominator / 6;
-  for (std::size_t i = 0; i < x_.size(); ++i) {
-    if (x_[i].w == 0.f) continue;
-    const Vec3 d = volume_gradient_[i] * (dlambda * x_[i].w);
-    x_[i].x += static_cast<float>(d.x());
-    x_[i].y += static_cast<float>(d.y());
-    x_[i].z += static_cast<float>(d.z());
+  const auto scale = static_cast<float>(-(six_volume / 6 - settings_.rest_volume) / denominator / 6);
+  for (std::size_t i = 0; i < n; ++i) {
+    const float s = x_[i].w * scale;
+    x_[i].x += g[3 * i] * s;
+    x_[i].y += g[3 * i + 1] * s;
+    x_[i].z += g[3 * i + 2] * s;
   }
 }
 
 void XpbdSolver::solve_home(float inv_h2) {
   const float alpha = home_compliance_ * inv_h2;
-  for (std::size_t i = 0; i < x_.size(); ++i) {
+  for (std::size_t i = 0; i + 1 < x_.size(); ++i) {
     XpbdParticle& p = x_[i];
     if (p.w == 0.f) continue;
     const Vec3& r = settings_.rest_positions[i];

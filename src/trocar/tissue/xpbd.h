@@ -13,6 +13,9 @@
 #include "trocar/tissue/state.h"
 
 namespace trocar {
+namespace tissue_detail {
+struct XpbdSpringColour;
+}
 
 /// One particle as the solver holds it: position (m, float) and inverse mass (1/kg; 0 = does not
 /// move). 16 bytes, so one aligned load reads a vertex.
@@ -35,15 +38,15 @@ struct XpbdView {
 class XpbdContacts {
  public:
   virtual ~XpbdContacts() = default;
-  /// Before the substeps, with the step's start positions: find candidates, grasp or release
-  /// (a grasped vertex gets w = 0 here and is placed by solve()).
+  /// Before the substeps, with the step's start positions: find candidates, grasp or release.
   virtual void begin_step(const XpbdView& view, Real dt, int substeps) = 0;
   /// Substep `substep` of `substeps` (0-based), of length h (s): project the contacts.
   virtual void solve(const XpbdView& view, int substep, int substeps, Real h) = 0;
   /// After the substep's velocities v = (x − x_start)/h: the contacts' velocity pass (an
   /// inelastic contact keeps no separating speed from its position correction; Müller et al.
   /// 2020 §3.6).
-  virtual void solve_velocities(std::span<float> vx, std::span<float> vy, std::span<float> vz) = 0;
+  /// `velocities` holds v in each particle's x, y, z.
+  virtual void solve_velocities(std::span<XpbdParticle> velocities) = 0;
 };
 
 /// Options of the XPBD solver (scene key `solver`, docs/tissue.md "XPBD").
@@ -67,15 +70,19 @@ struct XpbdStats {
 /// Constraints and their compliance α (the inverse of the stiffness the energy gives, so a
 /// scene means the same organ under every integrator: tissue/forces.h):
 ///  - each spring (structural and bending): C = |x_i − x_j| − l_ij, α = 1/k_ij; its damping
-///    λ_ij (N·s/m) as XPBD's constraint damping, γ = α λ_ij / h (XPBD eq. 26);
+///    λ_ij (N·s/m) as an implicit dashpot on the velocities once per step (xpbd_kernels.h).
+///    XPBD's own damping term (eq. 26) was measured and dropped: it also resists the substep's
+///    gravity prediction, so it softens the static shape (a hanging sheet sagged 6.6 % more);
 ///  - each triangle (k_area > 0): C = A − A0, α = Ā0 / k_area (energy ½ k_area (A − A0)²/Ā0);
 ///  - the volume (closed, k_volume > 0): C = V − V0, α = V0 / k_volume;
 ///  - home springs (k_home > 0): C = |x − x0|, α = 1/k_home.
 /// Each substep: v ← (v + h (g + f/m)) / (1 + hγ) (the mass-proportional damping γ implicitly);
 /// x ← x + h v; one pass over the springs in colour order (no two springs of a colour share a
-/// vertex), the triangles in colour order, the volume, the home springs; then the contact
-/// handler; v ← (x − x_start)/h. The Lagrange multipliers start at zero each substep (one
-/// iteration: "Small steps" §4).
+/// vertex), the triangles in colour order, the volume (last substep only, see step()), the home
+/// springs; then the contact
+/// handler; v ← (x − x_start)/h and the handler's velocity pass. After the substeps, the
+/// dashpots. The Lagrange multipliers start at zero each substep (one iteration: "Small steps"
+/// §4).
 class XpbdSolver {
  public:
   XpbdSolver(const MassSpringSettings& settings, XpbdOptions options = {});
@@ -87,36 +94,38 @@ class XpbdSolver {
 
   const XpbdOptions& options() const { return options_; }
   void set_substeps(int substeps) { options_.substeps = substeps < 1 ? 1 : substeps; }
+  /// Whether the AVX2 passes run (default: where the CPU has AVX2 + FMA); off runs the scalar
+  /// passes, which give the same result to float rounding.
+  void set_simd(bool on);
+  bool simd() const { return avx2_; }
   std::size_t spring_colours() const { return spring_colour_start_.size() - 1; }    ///< colours
   std::size_t triangle_colours() const { return triangle_colour_start_.size() - 1; }  ///< colours
 
  private:
-  /// One spring as the pass reads it (16 bytes).
-  struct SpringConstraint {
-    std::uint32_t i, j;
-    float rest;        ///< l_ij (m)
-    float compliance;  ///< α = 1/k (m/N)
-  };
-  struct TriangleConstraint {
-    std::uint32_t v[3];
-    float rest_area;  ///< A0 (m²)
-  };
-  void solve_springs(float h, float inv_h2, bool last);
+  void solve_springs(float inv_h2, bool last);
+  void damp_springs(float h);
+  tissue_detail::XpbdSpringColour spring_colour(std::size_t c) const;
   void solve_triangles(float inv_h2);
-  void solve_volume(float inv_h2);
+  void solve_volume(float inv_h_dt);
   void solve_home(float inv_h2);
 
   const MassSpringSettings& settings_;
   XpbdOptions options_;
+  bool avx2_ = false;                         ///< the CPU has AVX2 + FMA: the 8-lane passes
+  /// Particles: the vertices, then one padding particle (inverse mass 0) that the padding
+  /// springs and triangles of each colour join to itself.
   std::vector<XpbdParticle> x_, previous_;
-  std::vector<float> vx_, vy_, vz_;           ///< velocities (m/s)
+  std::vector<XpbdParticle> v_;               ///< velocities (m/s) in x, y, z (w unused)
   std::vector<float> inverse_masses_;         ///< from the settings (0 at fixed vertices)
-  std::vector<float> spring_damping_;         ///< λ_ij (N·s/m), per spring in pass order
-  std::vector<SpringConstraint> springs_;     ///< colour by colour
+  // Springs with a stiffness, colour by colour, each colour padded to a multiple of 8.
+  std::vector<std::uint32_t> spring_i_, spring_j_;
+  std::vector<float> spring_rest_, spring_compliance_, spring_damping_;
   std::vector<std::size_t> spring_colour_start_;
-  std::vector<TriangleConstraint> triangles_; ///< colour by colour (area term)
+  // Triangles of the area term, the same way.
+  std::vector<std::uint32_t> triangle_v0_, triangle_v1_, triangle_v2_;
+  std::vector<float> triangle_rest_;
   std::vector<std::size_t> triangle_colour_start_;
-  std::vector<Vec3> volume_gradient_;         ///< ∂V/∂x_i scratch (double: a sum over the surface)
+  std::vector<float> volume_gradient_;        ///< ∂(6V)/∂x_i, 3 per vertex (volume term)
   std::vector<std::uint32_t> fixed_;          ///< fixed vertex ids
   std::vector<Vec3> fixed_positions_;
   float area_compliance_ = 0;                 ///< Ā0 / k_area (0: off)
