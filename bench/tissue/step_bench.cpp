@@ -11,6 +11,8 @@
 //    spring damping scaled down until every vertex has h²·Σk/m ≤ 1e-3 (explicit Euler, which
 //    gains energy at every step unless h²ω² is tiny) or ≤ 1 (semi-implicit; its limit is 4),
 //    so they stay finite; the per-step work depends on the mesh, not on the values.
+//  * xpbd runs the organ's preset as is, with its default substeps (4); xpbd-scalar forces the
+//    portable passes.
 //  * implicit-euler runs the organ's preset as is. The setup runs explicit Euler for 300
 //    steps on the same material and reports `explicit_diverged` = 1 when it blew up (non-finite
 //    or a vertex more than 5 cm from rest), so each row shows that it is at a stiffness
@@ -182,13 +184,14 @@ void bm_ours(benchmark::State& bs, const Organ& organ, IntegratorKind kind, bool
   }
   const MassSpringMaterial preset = material_preset(organ.preset);
   const MassSpringMaterial material =
-      kind == IntegratorKind::kImplicitEuler
+      kind == IntegratorKind::kImplicitEuler || kind == IntegratorKind::kXpbd
           ? preset
           : explicit_stable(*mesh, preset, kind == IntegratorKind::kExplicitEuler ? 1e-3 : 1.0);
   const MassSpringSettings settings = MassSpringSettings::build(*mesh, material, bottom_support(*mesh), kGravity);
   if (kind == IntegratorKind::kImplicitEuler) bs.counters["explicit_diverged"] = explicit_diverges(settings) ? 1 : 0;
   MassSpringIntegrator integrator(settings, kind);
   integrator.set_simd(simd);
+  if (integrator.xpbd() != nullptr) integrator.xpbd()->set_simd(simd);
   if (sweep) integrator.set_explicit_sweep(*sweep);
   TissueLoads loads;
   loads.reset(settings.vertex_count(), 0);
@@ -211,8 +214,9 @@ void bm_ours(benchmark::State& bs, const Organ& organ, IntegratorKind kind, bool
     benchmark::DoNotOptimize(state.positions.data());
   }
   bs.counters["vertices"] = static_cast<double>(settings.vertex_count());
-  bs.counters["simd"] = integrator.simd() ? 1 : 0;
-  if (kind != IntegratorKind::kImplicitEuler) bs.counters["sweep"] = integrator.explicit_sweep() ? 1 : 0;
+  bs.counters["simd"] = (integrator.xpbd() != nullptr ? integrator.xpbd()->simd() : integrator.simd()) ? 1 : 0;
+  if (integrator.xpbd() != nullptr) bs.counters["substeps"] = integrator.xpbd()->options().substeps;
+  if (kind != IntegratorKind::kImplicitEuler && kind != IntegratorKind::kXpbd) bs.counters["sweep"] = integrator.explicit_sweep() ? 1 : 0;
   bs.counters["ns_per_vertex"] = ns_per_vertex(settings.vertex_count());
   bs.counters["finite"] = finite ? 1 : 0;
   bs.counters["k_structural"] = material.k_structural;
@@ -343,26 +347,29 @@ void bm_bullet_deformable(benchmark::State& bs, const Organ& organ) {
 
 #endif  // TROCAR_HAVE_BULLET
 
-/// Registers every row: BM_Tissue/<organ>/<integrator> (and semi-implicit-euler-scalar, -passes and
-/// -sweep), BM_BulletSoftBody/<organ>,
+/// Registers every row: BM_Tissue/<organ>/<integrator> (and xpbd-scalar, semi-implicit-euler-scalar,
+/// -passes and -sweep), BM_BulletSoftBody/<organ>,
 /// BM_BulletDeformable/<organ>.
 bool register_all() {
   constexpr IntegratorKind kKinds[] = {IntegratorKind::kExplicitEuler, IntegratorKind::kSemiImplicitEuler,
-                                       IntegratorKind::kImplicitEuler};
-  constexpr const char* kKindNames[] = {"explicit-euler", "semi-implicit-euler", "implicit-euler"};
+                                       IntegratorKind::kImplicitEuler, IntegratorKind::kXpbd};
+  constexpr const char* kKindNames[] = {"explicit-euler", "semi-implicit-euler", "implicit-euler", "xpbd"};
 #ifdef TROCAR_HAVE_BULLET
   benchmark::AddCustomContext("bullet_precision", TROCAR_BULLET_PRECISION);
 #else
   benchmark::AddCustomContext("bullet_precision", "none (libbullet-dev not found)");
 #endif
   for (const Organ& organ : kOrgans) {
-    for (std::size_t k = 0; k < 3; ++k) {
+    for (std::size_t k = 0; k < 4; ++k) {
       const IntegratorKind kind = kKinds[k];
       benchmark::RegisterBenchmark((std::string("BM_Tissue/") + organ.label + "/" + kKindNames[k]).c_str(),
                                    [&organ, kind](benchmark::State& bs) { bm_ours(bs, organ, kind, true); })
           ->Unit(benchmark::kMicrosecond);
     }
     // The portable scalar passes, for the speed-up of the AVX2 ones.
+    benchmark::RegisterBenchmark((std::string("BM_Tissue/") + organ.label + "/xpbd-scalar").c_str(),
+                                 [&organ](benchmark::State& bs) { bm_ours(bs, organ, IntegratorKind::kXpbd, false); })
+        ->Unit(benchmark::kMicrosecond);
     benchmark::RegisterBenchmark((std::string("BM_Tissue/") + organ.label + "/semi-implicit-euler-scalar").c_str(),
                                  [&organ](benchmark::State& bs) {
                                    bm_ours(bs, organ, IntegratorKind::kSemiImplicitEuler, false);

@@ -103,7 +103,7 @@ TEST(ViewerPanel, EditsStartFromTheSceneAndApplyAsAValidScene) {
   ASSERT_EQ(e.tissues.size(), 1u);
   const MassSpringMaterial peritoneum = material_preset("peritoneum");
   EXPECT_FLOAT_EQ(e.tissues[0].k_structural, float(peritoneum.k_structural));  // the preset's value
-  EXPECT_EQ(e.tissues[0].integrator, 2);    // implicit-euler
+  EXPECT_EQ(e.tissues[0].integrator, 3);    // xpbd
   EXPECT_EQ(e.method, 0);                   // obb
   EXPECT_FLOAT_EQ(e.stiffness, 500);
   EXPECT_FLOAT_EQ(e.timestep, 0.001f);

@@ -11,7 +11,7 @@ namespace {
 
 constexpr const char* kMethods[] = {"obb", "sdf", "primitive", "normal", "project"};
 constexpr const char* kBroadPhases[] = {"ohc", "bvh", "brute"};
-constexpr const char* kIntegrators[] = {"explicit-euler", "semi-implicit-euler", "implicit-euler"};
+constexpr const char* kIntegrators[] = {"explicit-euler", "semi-implicit-euler", "implicit-euler", "xpbd"};
 
 template <std::size_t N>
 int index_of(const char* const (&names)[N], const std::string& name, int fallback) {
@@ -48,7 +48,7 @@ SceneEdits edits_from(const nlohmann::json& doc, int drive) {
       me.damping = number_or(m, "damping", base.damping);
       me.k_area = number_or(m, "k_area", base.k_area);
       me.k_volume = number_or(m, "k_volume", base.k_volume);
-      me.integrator = index_of(kIntegrators, t.value("integrator", std::string("implicit-euler")), 2);
+      me.integrator = index_of(kIntegrators, t.value("integrator", std::string("xpbd")), 3);
       e.tissues.push_back(me);
     }
   const nlohmann::json response = doc.value("response", nlohmann::json::object());
@@ -75,6 +75,7 @@ void apply_edits(nlohmann::json& doc, const SceneEdits& e, int drive) {
     m["k_area"] = me.k_area;
     m["k_volume"] = me.k_volume;
     t["integrator"] = kIntegrators[me.integrator];
+    if (t["integrator"] != "xpbd") t.erase("substeps");  // an xpbd-only key
   }
   doc["response"]["method"] = kMethods[e.method];
   doc["response"]["stiffness"] = e.stiffness;

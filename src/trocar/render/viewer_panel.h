@@ -17,7 +17,7 @@ namespace trocar {
 struct MaterialEdit {
   std::string name;
   float k_structural = 0, k_bending = 0, damping = 0, k_area = 0, k_volume = 0;
-  int integrator = 2;  ///< 0 explicit, 1 semi-implicit, 2 implicit Euler
+  int integrator = 3;  ///< 0 explicit, 1 semi-implicit, 2 implicit Euler, 3 xpbd (the default)
 };
 
 /// Everything the panel edits in the scene.

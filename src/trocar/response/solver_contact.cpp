@@ -1,5 +1,7 @@
 #include "trocar/response/solver_contact.h"
 
+#include "trocar/geometry/closest_point.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -61,8 +63,9 @@ void InstrumentContacts::reset(std::span<const Vec3> positions, std::span<const 
     const std::size_t samples = p.in.field != nullptr ? p.in.field->samples().size() : 0;
     p.samples.reserve(samples);
     p.sample_world.reserve(samples);
-    p.pairs.reserve(4096);
+    p.pairs.reserve(kMaxPairs);
     p.held.reserve(vertex_count);
+    p.points.reserve(kMaxPoints);
     p.hits.assign(p.in.instrument != nullptr ? p.in.instrument->world_positions().size() : 0, 0);
     build_sample_grid(p);
   }
@@ -102,6 +105,7 @@ void InstrumentContacts::begin_step(const XpbdView& view, Real dt, int substeps)
   (void)dt;
   substeps_ = substeps;
   contacts_ = 0;
+  dropped_pairs_ = 0;
   ++stamp_;
   // How far a tissue vertex may move this step: twice its last step's motion (the previous
   // substep's displacement × substeps), at least 0.2 mm.
@@ -214,13 +218,14 @@ void InstrumentContacts::find_pairs(PerInstrument& p, const XpbdView& view) {
           for (std::size_t cx = lo[0]; cx <= hi[0]; ++cx) {
             const std::size_t cell = (cz * p.grid_n[1] + cy) * p.grid_n[0] + cx;
             for (std::uint32_t k2 = p.grid_start[cell]; k2 < p.grid_start[cell + 1]; ++k2)
-              add_pair(p, p.grid_samples[k2], t, face, n, x0, samples);
+              add_pair(p, p.grid_samples[k2], t, face, n, x0, x1, x2, samples);
           }
     }
 }
 
 void InstrumentContacts::add_pair(PerInstrument& p, std::uint32_t sample, std::uint32_t triangle, const Aabb& face,
-                                  const Vec3& n, const Vec3& x0, std::span<const Vec3> samples) {
+                                  const Vec3& n, const Vec3& x0, const Vec3& x1, const Vec3& x2,
+                                  std::span<const Vec3> samples) {
   const Vec3 a0 = p.from.apply(samples[sample]);
   const Vec3 a1 = p.to.apply(samples[sample]);
   Aabb path;
@@ -238,6 +243,15 @@ void InstrumentContacts::add_pair(PerInstrument& p, std::uint32_t sample, std::u
   if (side * d0 < -kRecover) return;
   const Real lo = std::min(side * d0, side * d1), hi = std::max(side * d0, side * d1);
   if (lo > settings_.contact_margin + tissue_reach_ || hi < -p.depth_limit - tissue_reach_) return;
+  // And beside the face: the sample's path must come within the reach of the face itself, not
+  // only of its plane (a face along a shaft would otherwise pair with every sample over it).
+  const Real lateral = settings_.contact_margin + tissue_reach_ + (a1 - a0).norm();
+  const Vec3 over = a0 - d0 * n;  // a0 in the face's plane: only the in-plane distance counts here
+  if ((closest_point_on_triangle(over, x0, x1, x2).point - over).squaredNorm() > lateral * lateral) return;
+  if (p.pairs.size() == p.pairs.capacity()) {  // the bound on a step's work: never grow, never hang
+    ++dropped_pairs_;
+    return;
+  }
   if (p.sample_stamp[sample] != p.sample_round) {
     p.sample_stamp[sample] = p.sample_round;
     p.sample_index[sample] = static_cast<std::uint32_t>(p.samples.size());
@@ -251,6 +265,7 @@ void InstrumentContacts::solve(const XpbdView& view, int substep, int substeps, 
   moved_.clear();
   for (PerInstrument& p : per_) {
     if (p.in.instrument == nullptr || p.in.field == nullptr || p.in.field->empty()) continue;
+    p.points.clear();
     const Pose pose = interpolate_pose(p.from, p.to, static_cast<Real>(substep + 1) / substeps);
     const Pose before = interpolate_pose(p.from, p.to, static_cast<Real>(substep) / substeps);
     // Held vertices: an attachment of zero compliance, solved last; the tissue's pull on the
@@ -331,6 +346,7 @@ void InstrumentContacts::push_faces(PerInstrument& p, const XpbdView& view, Real
     }
     p.force -= moved * share;
     p.torque += (a - p.to.translation).cross(-moved * share);
+    if (p.points.size() < p.points.capacity()) p.points.push_back({a, n});
     for (const std::uint32_t v : ends[p.samples[pair.sample]]) p.hits[v] = 1;
   }
 }
@@ -388,6 +404,7 @@ void InstrumentContacts::project_vertices(PerInstrument& p, const XpbdView& view
       moved_.push_back({v, static_cast<float>(normal.x()), static_cast<float>(normal.y()), static_cast<float>(normal.z()),
                         static_cast<float>(normal.dot(p.in.instrument->velocity_at(moved)))});
     const Vec3 impulse = (moved - x) * (view.masses[v] * share);
+    if (p.points.size() < p.points.capacity()) p.points.push_back({moved, -normal});
     p.force -= impulse;
     p.torque += (moved - p.to.translation).cross(-impulse);
     if (res.triangle < itri.size())

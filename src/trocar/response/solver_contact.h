@@ -26,6 +26,12 @@ struct SolverInstrument {
   Real thickness = 0;  ///< InstrumentBody::thickness (m): deepest a sample may sit under a face
 };
 
+/// A contact the solver answered: where (world, m) and the tissue's outward normal there.
+struct SolverContactPoint {
+  Vec3 point = Vec3::Zero();
+  Vec3 normal = Vec3::Zero();
+};
+
 /// A tissue vertex held by closed jaws: its place in the instrument's frame.
 struct HeldVertex {
   std::uint32_t vertex = 0;
@@ -69,6 +75,12 @@ class InstrumentContacts final : public XpbdContacts {
   /// at most this far under it (m): a shallow penetration left by an earlier step is repaired,
   /// a deep one (the far side of the organ, a tool started inside) is left to the vertices.
   static constexpr Real kRecover = 0.0005;
+  /// (sample, face) pairs one instrument may hold in a step: the bound on a step's face pushes
+  /// (a tissue crumpled around a long shaft would otherwise pair thousands of faces with
+  /// thousands of samples). Pairs beyond it are dropped and counted (dropped_pairs()).
+  static constexpr std::size_t kMaxPairs = 8192;
+  /// Contact points kept per instrument for display (points()).
+  static constexpr std::size_t kMaxPoints = 1024;
 
   /// Sizes everything for a tissue (its rest positions, triangles, closed or open) and the
   /// instruments.
@@ -87,10 +99,14 @@ class InstrumentContacts final : public XpbdContacts {
   const Vec3& torque(std::size_t i) const { return per_[i].torque; }
   /// Per instrument vertex: 1 when it took part in a contact in the last step.
   std::span<const std::uint8_t> hits(std::size_t i) const { return per_[i].hits; }
+  /// The contacts instrument i's last substep answered (at most kMaxPoints), for display.
+  std::span<const SolverContactPoint> points(std::size_t i) const { return per_[i].points; }
   /// The vertices instrument i holds.
   std::span<const HeldVertex> held(std::size_t i) const { return per_[i].held; }
   /// Tissue vertices moved by a contact in the last step (all instruments).
   std::uint32_t contacts() const { return contacts_; }
+  /// Pairs over kMaxPairs left out in the last step (see kMaxPairs).
+  std::uint32_t dropped_pairs() const { return dropped_pairs_; }
 
  private:
   struct Pair {
@@ -107,6 +123,7 @@ class InstrumentContacts final : public XpbdContacts {
     std::vector<Vec3> sample_world;             ///< their world positions this substep
     std::vector<Pair> pairs;                    ///< (active sample index, triangle)
     std::vector<HeldVertex> held;
+    std::vector<SolverContactPoint> points;     ///< the last substep's contacts (capacity kMaxPoints)
     std::vector<std::uint8_t> hits;             ///< per instrument vertex
     Pose from, to;                              ///< poses at the start and end of the step
     Vec3 force = Vec3::Zero(), torque = Vec3::Zero();
@@ -121,7 +138,7 @@ class InstrumentContacts final : public XpbdContacts {
   };
   void build_sample_grid(PerInstrument& p);
   void add_pair(PerInstrument& p, std::uint32_t sample, std::uint32_t triangle, const Aabb& face, const Vec3& n,
-                const Vec3& x0, std::span<const Vec3> samples);
+                const Vec3& x0, const Vec3& x1, const Vec3& x2, std::span<const Vec3> samples);
   void find_candidates(PerInstrument& p, const XpbdView& view);
   void update_grasp(PerInstrument& p, const XpbdView& view);
   void find_pairs(PerInstrument& p, const XpbdView& view);
@@ -140,6 +157,7 @@ class InstrumentContacts final : public XpbdContacts {
   std::vector<std::uint8_t> is_held_;                      ///< per tissue vertex
   int substeps_ = 1;
   std::uint32_t contacts_ = 0;
+  std::uint32_t dropped_pairs_ = 0;
   std::vector<std::uint32_t> touched_stamp_;                ///< per tissue vertex: counted this step
   /// This substep's contact corrections for the velocity pass: vertex, unit normal (the way the
   /// correction moved it), the instrument's speed along it there.

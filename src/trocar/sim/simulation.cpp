@@ -130,13 +130,9 @@ Simulation::Simulation(World world, const SimulationSettings& settings)
     for (const InstrumentBody& body : world_.instruments) fields_.emplace_back(body.instrument.local_mesh());
   // Tissues on the xpbd integrator solve their instrument contacts inside its substeps.
   solver_contacts_.resize(nt);
-  all_solver_contact_ = nt > 0;
   for (std::size_t t = 0; t < nt; ++t) {
     TissueBody& tissue = *world_.tissues[t];
-    if (tissue.integrator.kind() != IntegratorKind::kXpbd) {
-      all_solver_contact_ = false;
-      continue;
-    }
+    if (tissue.integrator.kind() != IntegratorKind::kXpbd) continue;
     std::vector<SolverInstrument> inputs;
     for (std::size_t i = 0; i < ni; ++i)
       inputs.push_back({&world_.instruments[i].instrument, &fields_[i], world_.instruments[i].thickness});
@@ -262,12 +258,6 @@ const StepMetrics& Simulation::step(Real dt) {
 }
 
 void Simulation::detect() {
-  // Tissues on the xpbd integrator find their own contacts; with no other tissue, nothing
-  // needs the detector's triangle pairs.
-  if (all_solver_contact_) {
-    contacts_.clear();
-    return;
-  }
   // Detect when the detection clock is due (a small tolerance absorbs the rounding of summed
   // step sizes, so a period equal to k steps detects exactly every k-th step).
   const bool due = settings_.collision_period <= 0 || time_ >= next_detection_ - 1e-6 * settings_.collision_period;

@@ -132,6 +132,8 @@ class Simulation {
   /// FNV-1a 64-bit hash of the bits of every tissue's positions and velocities and every
   /// instrument's pose (rotation coefficients, translation) and jaw.
   std::uint64_t state_hash() const;
+  /// Tissue t's contact inside the xpbd solver (null for the other integrators).
+  const InstrumentContacts* solver_contacts(std::size_t t) const { return solver_contacts_[t].get(); }
   /// The collision detector (its timings and, for OHC, the last detection's counts).
   const CollisionDetector& detector() const { return detector_; }
 
@@ -172,8 +174,9 @@ class Simulation {
   std::vector<ContactProjector> projectors_; ///< per (instrument, tissue) pair (method sdf)
   std::vector<InstrumentField> fields_;      ///< per instrument (method sdf or an xpbd tissue; built once)
   /// Per tissue: its contact inside the xpbd solver (null for the other integrators).
+  /// (The detector still runs for them: its triangle pairs are what the renderer draws, the
+  /// recording keeps and the tunneling metric counts as seen; the solver finds its own.)
   std::vector<std::unique_ptr<InstrumentContacts>> solver_contacts_;
-  bool all_solver_contact_ = false;  ///< every tissue is on xpbd: no detection needed
   std::vector<InstrumentLoad> loads_;        ///< per instrument: this step's raw load, then clamped
   std::vector<InstrumentMetrics> instrument_metrics_;
   std::vector<std::unique_ptr<MeshDistance>> distances_;  ///< per tissue (null without metrics)

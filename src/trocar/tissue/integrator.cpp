@@ -102,7 +102,11 @@ StepStats MassSpringIntegrator::step(MassSpringState& state, const TissueLoads& 
   switch (kind_) {
     case IntegratorKind::kExplicitEuler: return step_explicit(state, loads, dt, false);
     case IntegratorKind::kSemiImplicitEuler: return step_explicit(state, loads, dt, true);
-    case IntegratorKind::kImplicitEuler: return step_implicit(state, loads, dt);
+    case IntegratorKind::kImplicitEuler: {
+      StepStats stats = step_implicit(state, loads, dt);
+      stats.constraint_error = stats.cg_residual;
+      return stats;
+    }
     case IntegratorKind::kXpbd: {
       const XpbdStats x = xpbd_->step(state, loads, dt, contacts_);
       StepStats stats;
