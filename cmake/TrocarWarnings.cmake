@@ -32,8 +32,11 @@ endfunction()
 # ctest. SHARED_DATA: some of its tests read ../shared/data/meshes through
 # tests/support/shared_data.h and skip when it is absent; they carry the ctest label
 # `shared_data`, which .ci/run runs once more with the folder hidden (the fresh-clone check).
+# REAL_TIME: its tests run real-time threads and check a rate or an on-time count against the
+# wall clock (the runtime, the viewer); ctest runs them alone (RUN_SERIAL), as two such tests side
+# by side on a 2-core machine starve each other's haptic thread (a viewer run measured 847 Hz).
 function(trocar_add_test name)
-  cmake_parse_arguments(T "SHARED_DATA" "" "SOURCES;DEPS" ${ARGN})
+  cmake_parse_arguments(T "SHARED_DATA;REAL_TIME" "" "SOURCES;DEPS" ${ARGN})
   if(NOT T_SOURCES)
     return()
   endif()
@@ -47,7 +50,11 @@ function(trocar_add_test name)
   if(T_SHARED_DATA)
     set(labels shared_data)
   endif()
+  set(serial FALSE)
+  if(T_REAL_TIME)
+    set(serial TRUE)
+  endif()
   gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60 TEST_PREFIX "${name}."
     PROPERTIES ENVIRONMENT "LSAN_OPTIONS=suppressions=${PROJECT_SOURCE_DIR}/tests/lsan.supp"
-               LABELS "${labels}")
+               LABELS "${labels}" RUN_SERIAL ${serial})
 endfunction()
