@@ -45,9 +45,9 @@ struct StepStats {
   bool finite = true;            ///< false when a position or velocity became non-finite
   int substeps = 0;              ///< xpbd only: substeps (one constraint pass each)
   /// Relative constraint error left by the step: implicit, the CG's relative residual; xpbd,
-  /// the largest spring strain |l − l0|/l0 after the last pass.
+  /// the largest spring strain |l − l0|/l0 in the last pass.
   Real constraint_error = 0;
-  Real volume_error = 0;         ///< xpbd only: |V − V0|/V0 after the step (closed, volume term on)
+  Real volume_error = 0;         ///< xpbd only: |V − V0|/V0 at its volume pass (closed, volume term on)
 };
 
 /// Steps one tissue. Holds scratch buffers sized at construction, so step() never allocates.

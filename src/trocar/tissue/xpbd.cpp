@@ -209,10 +209,8 @@ XpbdStats XpbdSolver::step(MassSpringState& state, const TissueLoads& loads, Rea
     state.velocities[fixed_[k]] = Vec3::Zero();
   }
   if (volume_compliance_ > 0) {
-    Real volume = 0;
-    for (const Triangle& t : settings_.triangles)
-      volume += state.positions[t[0]].dot(state.positions[t[1]].cross(state.positions[t[2]]));
-    stats.volume_error = std::abs(volume / 6 - settings_.rest_volume) / settings_.rest_volume;
+    // The volume the last substep's pass saw (before its own correction): no second pass.
+    stats.volume_error = std::abs(last_volume_ - settings_.rest_volume) / settings_.rest_volume;
   }
   if (!finite) stats.max_strain = std::numeric_limits<Real>::quiet_NaN();
   return stats;
@@ -282,6 +280,7 @@ void XpbdSolver::solve_volume(float inv_h_dt) {
   for (std::size_t i = 0; i < n; ++i)
     weighted += x_[i].w * (g[3 * i] * g[3 * i] + g[3 * i + 1] * g[3 * i + 1] + g[3 * i + 2] * g[3 * i + 2]);
   // C = V − V0 with ∇V = g/6: Δλ = −C / (Σ w |g|²/36 + α̃), Δx_i = w_i (g_i/6) Δλ.
+  last_volume_ = six_volume / 6;
   const double denominator = weighted / 36 + volume_compliance_ * inv_h_dt;
   if (!(denominator > 0)) return;
   const auto scale = static_cast<float>(-(six_volume / 6 - settings_.rest_volume) / denominator / 6);

@@ -58,10 +58,11 @@ struct XpbdOptions {
 
 /// What one XPBD step measured.
 struct XpbdStats {
-  /// The largest |C| over the springs after the last substep, relative to the rest length
-  /// (strain left unresolved by the pass; with soft springs it is the spring's real strain).
+  /// The largest |C| over the springs in the last substep's pass (before its correction),
+  /// relative to the rest length: with soft springs it is the springs' real strain.
   Real max_strain = 0;
-  /// |V − V0|/V0 after the step (0 for open meshes or without the volume term).
+  /// |V − V0|/V0 at the step's volume pass, before its correction (0 for open meshes or without
+  /// the volume term).
   Real volume_error = 0;
 };
 
@@ -132,6 +133,7 @@ class XpbdSolver {
   double volume_compliance_ = 0;              ///< V0 / k_volume (0: off)
   float home_compliance_ = 0;                 ///< 1/k_home (0: off)
   Real max_strain_ = 0;
+  double last_volume_ = 0;                    ///< V at the last volume pass, before its correction (m³)
 };
 
 /// Greedy colouring of `items` (each a set of `arity` vertex ids) so that no two items of a
