@@ -47,7 +47,7 @@ struct Rig {
   /// One step of `substeps` with positions x already predicted (previous = the step's start).
   void step(Real dt = 1e-3, int substeps = 1) {
     const XpbdView view{x, previous, masses, triangles};
-    contacts.begin_step(view, dt, substeps);
+    contacts.begin_step(view, substeps);
     for (int s = 0; s < substeps; ++s) contacts.solve(view, s, substeps, dt / substeps);
   }
 };

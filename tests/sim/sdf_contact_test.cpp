@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "contact_targets.h"
 #include "probe_scene.h"
 #include "trocar/scene/scene.h"
 #include "trocar/sim/simulation.h"
@@ -62,12 +63,9 @@ TEST(SdfContact, PressSlideAndPokeOnAGeneratedOrgan) {
   for (const SuiteMotion motion : {SuiteMotion::kPress, SuiteMotion::kSlide, SuiteMotion::kPoke}) {
     const SuiteRun r = run_suite_case(organ, motion, ResponseMethod::kSdf);
     SCOPED_TRACE(r.motion);
-    EXPECT_TRUE(r.stable);
+    test::expect_contact_targets(r);
     EXPECT_GT(r.contact_steps, 100u);
     EXPECT_GT(r.raw_force_max, 0.01);
-    EXPECT_LE(r.penetration_p99, 0.5e-3);
-    EXPECT_LE(r.penetration_max, 1e-3);
-    EXPECT_EQ(r.tunneling, 0u);
   }
 }
 

@@ -101,11 +101,9 @@ void InstrumentContacts::build_sample_grid(PerInstrument& p) {
   for (std::size_t k = 0; k < samples.size(); ++k) p.grid_samples[fill[cell_of(samples[k])]++] = static_cast<std::uint32_t>(k);
 }
 
-void InstrumentContacts::begin_step(const XpbdView& view, Real dt, int substeps) {
-  (void)dt;
+void InstrumentContacts::begin_step(const XpbdView& view, int substeps) {
   substeps_ = substeps;
   contacts_ = 0;
-  dropped_pairs_ = 0;
   ++stamp_;
   // How far a tissue vertex may move this step: twice its last step's motion (the previous
   // substep's displacement × substeps), at least 0.2 mm.
@@ -248,10 +246,7 @@ void InstrumentContacts::add_pair(PerInstrument& p, std::uint32_t sample, std::u
   const Real lateral = settings_.contact_margin + tissue_reach_ + (a1 - a0).norm();
   const Vec3 over = a0 - d0 * n;  // a0 in the face's plane: only the in-plane distance counts here
   if ((closest_point_on_triangle(over, x0, x1, x2).point - over).squaredNorm() > lateral * lateral) return;
-  if (p.pairs.size() == p.pairs.capacity()) {  // the bound on a step's work: never grow, never hang
-    ++dropped_pairs_;
-    return;
-  }
+  if (p.pairs.size() == p.pairs.capacity()) return;  // the bound on a step's work: never grow, never hang
   if (p.sample_stamp[sample] != p.sample_round) {
     p.sample_stamp[sample] = p.sample_round;
     p.sample_index[sample] = static_cast<std::uint32_t>(p.samples.size());

@@ -77,7 +77,7 @@ class InstrumentContacts final : public XpbdContacts {
   static constexpr Real kRecover = 0.0005;
   /// (sample, face) pairs one instrument may hold in a step: the bound on a step's face pushes
   /// (a tissue crumpled around a long shaft would otherwise pair thousands of faces with
-  /// thousands of samples). Pairs beyond it are dropped and counted (dropped_pairs()).
+  /// thousands of samples). Pairs beyond it are left out.
   static constexpr std::size_t kMaxPairs = 8192;
   /// Contact points kept per instrument for display (points()).
   static constexpr std::size_t kMaxPoints = 1024;
@@ -87,7 +87,7 @@ class InstrumentContacts final : public XpbdContacts {
   void reset(std::span<const Vec3> positions, std::span<const Triangle> triangles, bool closed,
              std::span<const SolverInstrument> instruments, const ResponseSettings& settings);
 
-  void begin_step(const XpbdView& view, Real dt, int substeps) override;
+  void begin_step(const XpbdView& view, int substeps) override;
   void solve(const XpbdView& view, int substep, int substeps, Real h) override;
   /// Each vertex a contact moved this substep keeps at most the instrument's speed along the
   /// contact normal (inelastic: the correction adds no separating speed).
@@ -105,8 +105,6 @@ class InstrumentContacts final : public XpbdContacts {
   std::span<const HeldVertex> held(std::size_t i) const { return per_[i].held; }
   /// Tissue vertices moved by a contact in the last step (all instruments).
   std::uint32_t contacts() const { return contacts_; }
-  /// Pairs over kMaxPairs left out in the last step (see kMaxPairs).
-  std::uint32_t dropped_pairs() const { return dropped_pairs_; }
 
  private:
   struct Pair {
@@ -157,7 +155,6 @@ class InstrumentContacts final : public XpbdContacts {
   std::vector<std::uint8_t> is_held_;                      ///< per tissue vertex
   int substeps_ = 1;
   std::uint32_t contacts_ = 0;
-  std::uint32_t dropped_pairs_ = 0;
   std::vector<std::uint32_t> touched_stamp_;                ///< per tissue vertex: counted this step
   /// This substep's contact corrections for the velocity pass: vertex, unit normal (the way the
   /// correction moved it), the instrument's speed along it there.

@@ -404,13 +404,13 @@ void Simulation::measure_penetration(std::size_t t) {
       if (c.kind != ContactKind::kInstrumentTissue || c.object_a != i || c.object_b != ni + t) continue;
       for (std::uint32_t v : body.instrument.triangles()[c.triangle_a]) touched[v] = 1;
     }
-    if (const InstrumentContacts* contacts = solver_contacts_[t].get()) {  // xpbd: the solver's contacts
-      const std::span<const std::uint8_t> hits = contacts->hits(i);
-      for (std::size_t v = 0; v < hits.size() && v < touched.size(); ++v) touched[v] |= hits[v];
-    } else if (!projectors_.empty()) {  // method sdf: vertices whose contact the projection found itself
-      const std::span<const std::uint8_t> hits = projectors_[i * nt + t].instrument_hits();
-      for (std::size_t v = 0; v < hits.size() && v < touched.size(); ++v) touched[v] |= hits[v];
-    }
+    // Vertices whose contact the xpbd solver or the sdf projection found itself.
+    std::span<const std::uint8_t> hits;
+    if (const InstrumentContacts* contacts = solver_contacts_[t].get())
+      hits = contacts->hits(i);
+    else if (!projectors_.empty())
+      hits = projectors_[i * nt + t].instrument_hits();
+    for (std::size_t v = 0; v < hits.size() && v < touched.size(); ++v) touched[v] |= hits[v];
     measure_pair(i, t, inside_box, sheet);
   }
 }

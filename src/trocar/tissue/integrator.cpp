@@ -112,7 +112,6 @@ StepStats MassSpringIntegrator::step(MassSpringState& state, const TissueLoads& 
       StepStats stats;
       stats.substeps = xpbd_->options().substeps;
       stats.constraint_error = x.max_strain;
-      stats.volume_error = x.volume_error;
       stats.finite = std::isfinite(x.max_strain);
       return stats;
     }

@@ -47,7 +47,6 @@ struct StepStats {
   /// Relative constraint error left by the step: implicit, the CG's relative residual; xpbd,
   /// the largest spring strain |l − l0|/l0 in the last pass.
   Real constraint_error = 0;
-  Real volume_error = 0;         ///< xpbd only: |V − V0|/V0 at its volume pass (closed, volume term on)
 };
 
 /// Steps one tissue. Holds scratch buffers sized at construction, so step() never allocates.

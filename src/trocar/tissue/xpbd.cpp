@@ -148,7 +148,7 @@ XpbdStats XpbdSolver::step(MassSpringState& state, const TissueLoads& loads, Rea
   }
   const XpbdView view{std::span(x_).first(n), std::span(previous_).first(n), settings_.masses, settings_.triangles};
   const int substeps = options_.substeps;
-  if (contacts != nullptr) contacts->begin_step(view, dt, substeps);
+  if (contacts != nullptr) contacts->begin_step(view, substeps);
 
   const float h = static_cast<float>(dt / substeps);
   const float inv_h = 1.f / h;
@@ -207,10 +207,6 @@ XpbdStats XpbdSolver::step(MassSpringState& state, const TissueLoads& loads, Rea
   for (std::size_t k = 0; k < fixed_.size(); ++k) {
     state.positions[fixed_[k]] = fixed_positions_[k];
     state.velocities[fixed_[k]] = Vec3::Zero();
-  }
-  if (volume_compliance_ > 0) {
-    // The volume the last substep's pass saw (before its own correction): no second pass.
-    stats.volume_error = std::abs(last_volume_ - settings_.rest_volume) / settings_.rest_volume;
   }
   if (!finite) stats.max_strain = std::numeric_limits<Real>::quiet_NaN();
   return stats;
@@ -280,7 +276,6 @@ void XpbdSolver::solve_volume(float inv_h_dt) {
   for (std::size_t i = 0; i < n; ++i)
     weighted += x_[i].w * (g[3 * i] * g[3 * i] + g[3 * i + 1] * g[3 * i + 1] + g[3 * i + 2] * g[3 * i + 2]);
   // C = V − V0 with ∇V = g/6: Δλ = −C / (Σ w |g|²/36 + α̃), Δx_i = w_i (g_i/6) Δλ.
-  last_volume_ = six_volume / 6;
   const double denominator = weighted / 36 + volume_compliance_ * inv_h_dt;
   if (!(denominator > 0)) return;
   const auto scale = static_cast<float>(-(six_volume / 6 - settings_.rest_volume) / denominator / 6);

@@ -39,7 +39,7 @@ class XpbdContacts {
  public:
   virtual ~XpbdContacts() = default;
   /// Before the substeps, with the step's start positions: find candidates, grasp or release.
-  virtual void begin_step(const XpbdView& view, Real dt, int substeps) = 0;
+  virtual void begin_step(const XpbdView& view, int substeps) = 0;
   /// Substep `substep` of `substeps` (0-based), of length h (s): project the contacts.
   virtual void solve(const XpbdView& view, int substep, int substeps, Real h) = 0;
   /// After the substep's velocities v = (x − x_start)/h: the contacts' velocity pass (an
@@ -61,9 +61,6 @@ struct XpbdStats {
   /// The largest |C| over the springs in the last substep's pass (before its correction),
   /// relative to the rest length: with soft springs it is the springs' real strain.
   Real max_strain = 0;
-  /// |V − V0|/V0 at the step's volume pass, before its correction (0 for open meshes or without
-  /// the volume term).
-  Real volume_error = 0;
 };
 
 /// Steps one tissue with XPBD. Built once from the settings; step() never allocates.
@@ -99,8 +96,6 @@ class XpbdSolver {
   /// passes, which give the same result to float rounding.
   void set_simd(bool on);
   bool simd() const { return avx2_; }
-  std::size_t spring_colours() const { return spring_colour_start_.size() - 1; }    ///< colours
-  std::size_t triangle_colours() const { return triangle_colour_start_.size() - 1; }  ///< colours
 
  private:
   void solve_springs(float inv_h2, bool last);
@@ -133,7 +128,6 @@ class XpbdSolver {
   double volume_compliance_ = 0;              ///< V0 / k_volume (0: off)
   float home_compliance_ = 0;                 ///< 1/k_home (0: off)
   Real max_strain_ = 0;
-  double last_volume_ = 0;                    ///< V at the last volume pass, before its correction (m³)
 };
 
 /// Greedy colouring of `items` (each a set of `arity` vertex ids) so that no two items of a
