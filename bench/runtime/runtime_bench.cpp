@@ -10,6 +10,7 @@
 // ≥ 950 Hz on the 11.5K organ in contact.
 #include <benchmark/benchmark.h>
 
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -50,7 +51,7 @@ std::string xpbd_organ_text() {
   Vec3 top = mesh.positions[0];
   for (const Vec3& x : mesh.positions)
     if (x.z() > top.z()) top = x;
-  const std::string file = "/tmp/trocar_bench_flat12k.obj";
+  const std::string file = (std::filesystem::temp_directory_path() / "trocar_bench_flat12k.obj").string();
   save_mesh(mesh, file);
   nlohmann::json tissue;
   tissue["name"] = "organ";
