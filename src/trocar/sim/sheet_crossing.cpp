@@ -10,23 +10,22 @@
 #include <cmath>
 #include <limits>
 
-#include "trocar/sim/simulation.h"
+#include "trocar/sim/penetration_meter.h"
 
 namespace trocar {
 
-Real Simulation::sheet_side(const InstrumentBody& body, std::size_t i, std::size_t t, std::uint32_t v,
+Real PenetrationMeter::sheet_side(const InstrumentBody& body, std::size_t i, std::size_t t, std::uint32_t v,
                             const SignedDistanceResult& r) {
   constexpr Real kUnknownSide = std::numeric_limits<Real>::quiet_NaN();
-  const std::size_t nt = world_.tissues.size();
   const SheetBoundary& border = sheets_[t];
   const std::span<const Triangle> triangles = world_.tissues[t]->settings.triangles;
-  std::uint8_t& through = through_[i * nt + t][v];
+  std::uint8_t& through = through_[pair(i, t)][v];
   if (r.triangle >= triangles.size() || r.distance == 0 ||
       border.on_boundary(r.triangle, triangles[r.triangle], r.feature, r.feature_index)) {
     through = 0;
     return kUnknownSide;
   }
-  const Real before = previous_distance_[i * nt + t][v];
+  const Real before = previous_distance_[pair(i, t)][v];
   const bool side = r.distance > 0;
   const bool crossed = !std::isnan(before) && (before > 0) != side;  // side known on both steps
   // Depth before this step on the same side (0 if the vertex just arrived on it).
@@ -42,13 +41,13 @@ Real Simulation::sheet_side(const InstrumentBody& body, std::size_t i, std::size
                               border.on_boundary(at_start.triangle, triangles[at_start.triangle], at_start.feature,
                                                  at_start.feature_index);
     if (!start_border && at_start.distance != 0 && (at_start.distance > 0) == side)
-      ++metrics_.tunneling_events;  // (a)
+      ++reading_.tunneling_events;  // (a)
   }
   if (through != 0) {
     const Real depth = std::abs(r.distance);
-    ++metrics_.vertices_inside;
-    metrics_.penetration_max = std::max(metrics_.penetration_max, depth);
-    if (depth > body.thickness && !(depth_before > body.thickness)) ++metrics_.tunneling_events;  // (b)
+    ++reading_.vertices_inside;
+    reading_.penetration_max = std::max(reading_.penetration_max, depth);
+    if (depth > body.thickness && !(depth_before > body.thickness)) ++reading_.tunneling_events;  // (b)
   }
   return r.distance;
 }

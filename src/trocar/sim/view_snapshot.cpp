@@ -49,18 +49,15 @@ void capture_view(const Simulation& sim, ViewSnapshot& out) {
     out.instruments[inst].contact_centre += cv.point;
     ++out.instruments[inst].contacts;
   }
-  // Tissues on xpbd keep the instrument outside (no triangle pairs intersect): their contacts are
-  // the ones the solver answered in its last substep.
-  for (std::size_t t = 0; t < nt; ++t) {
-    const InstrumentContacts* solver = sim.solver_contacts(t);
-    if (solver == nullptr) continue;
+  // Contacts a tissue's response found itself (xpbd keeps the instrument outside, so no triangle
+  // pairs intersect): the ones its solver answered in its last substep.
+  for (std::size_t t = 0; t < nt; ++t)
     for (std::size_t i = 0; i < ni; ++i)
-      for (const SolverContactPoint& p : solver->points(i)) {
+      for (const SolverContactPoint& p : sim.response(t).contact_points(i)) {
         out.contacts.push_back({p.point, p.normal, static_cast<std::uint32_t>(i)});
         out.instruments[i].contact_centre += p.point;
         ++out.instruments[i].contacts;
       }
-  }
   for (InstrumentView& v : out.instruments)
     v.contact_centre = v.contacts > 0 ? Vec3(v.contact_centre / Real(v.contacts)) : v.pose.translation;
 }
