@@ -1,6 +1,6 @@
 #pragma once
-/// One step of the simulation, DESIGN.md §1: motion → instrument poses → broad phase → narrow
-/// phase → response → deformation → metrics.
+/// One step of the simulation (docs/architecture.md): motion → instrument poses → broad
+/// phase → narrow phase → response → deformation → metrics.
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -26,7 +26,7 @@ struct SimulationSettings {
   BroadPhaseKind broad_phase = BroadPhaseKind::kOhc;  ///< scene collision.broad_phase
   Real cell_size = 0;             ///< OHC cell edge (m); 0 = auto (scene "auto")
   /// Time between two detections (s); ≤ 0 = every step. Between detections the step has no
-  /// contacts (a slow detector that the instrument outruns, DESIGN.md §5).
+  /// contacts (a slow detector that the instrument outruns; docs/scene.md, `collision.period`).
   Real collision_period = 0;
   ResponseSettings response;      ///< method, gains, clamp
   bool measure_penetration = true;  ///< compute penetration and tunneling metrics each step
@@ -81,7 +81,7 @@ struct StepMetrics {
 /// step() allocates nothing, takes no lock, throws nothing and logs nothing (as long as the
 /// contact count stays within what the detector has already held).
 ///
-/// Metrics (DESIGN.md §6). Penetration: for each closed tissue whose bounding box (grown by 1 nm
+/// Metrics (docs/scene.md). Penetration: for each closed tissue whose bounding box (grown by 1 nm
 /// against rounding) holds some instrument vertex, the tissue's MeshDistance is
 /// refitted to the deformed positions once per step and every instrument vertex in that box is
 /// queried, seeded with the triangle that vertex was nearest to last time; a vertex outside that
