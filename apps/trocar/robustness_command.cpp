@@ -98,7 +98,7 @@ void write_csv(const fs::path& path, const std::vector<SuiteRun>& runs) {
   }
 }
 
-/// Whether a run meets the targets (docs/robustness.md): the step budget by size, and
+/// Whether a run meets the suite's targets (docs/robustness.md): the step budget by size, and
 /// the contact targets for motions up to 1 m/s.
 struct Verdict {
   bool step = true, contact = true;

@@ -1,5 +1,6 @@
 #pragma once
-// `trocar run SCENE`: a headless simulation, a report (DESIGN.md §6) and a per-step recording.
+// `trocar run SCENE`: a headless simulation, a report (docs/scene.md "`trocar run`") and a per-step
+// recording.
 #include <CLI/CLI.hpp>
 
 namespace trocar::cli {

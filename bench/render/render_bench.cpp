@@ -1,6 +1,6 @@
 // Rendering: the cost of one offscreen frame (EGL, Mesa's llvmpipe here), and the haptic loop's
 // timing with a renderer drawing the runtime's snapshots as fast as it can beside it — the
-// issue's check that rendering never blocks the physics or the haptic thread. The renderer
+// check that rendering never blocks the physics or the haptic thread. The renderer
 // thread keeps off the haptic core (keep_rendering_off_cpu) exactly as `trocar view` does.
 #include <benchmark/benchmark.h>
 

@@ -1,6 +1,6 @@
 // Every scene shipped in scenes/ loads (generated geometry only: a user's clone has no
 // ../shared) and runs 2 s of simulated time stably; the stab scene applies no far-surface
-// contact (the pierced-organ filter, DESIGN.md §4 step 9).
+// contact (the pierced-organ filter, step 9 of docs/response.md).
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -1,5 +1,6 @@
-// No heap allocation in detect() after warm-up (DESIGN.md §3): a counting global operator new
-// (replacing the one of this whole test binary; it only counts while a window is open).
+// No heap allocation in detect() after warm-up (docs/architecture.md "Conventions"): a counting
+// global operator new (replacing the one of this whole test binary; it only counts while a window
+// is open).
 #include <gtest/gtest.h>
 
 #include "support/allocation_counter.h"

@@ -1,6 +1,6 @@
 // What a build writes: OBJ + MTL + PNG and VRML97 read back to the same organ with its UVs;
 // the box-chart UVs are inside the atlas and never flip a triangle; the report carries the
-// figures the issue lists.
+// figures docs/modelling.md "The report" lists.
 #include <gtest/gtest.h>
 
 #include <filesystem>

@@ -1,4 +1,5 @@
-// Headless frames of a shipped scene checked against its projected geometry (issue: rendering).
+// Headless frames of a shipped scene checked against its projected geometry (docs/render.md
+// "Headless frames").
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -1,6 +1,7 @@
-// The haptic tick and the runtime's physics step allocate nothing after warm-up (DESIGN.md §3):
-// a scripted device presses the shipped press scene's lobe in 0.5 s and holds, in lock-step (the
-// tick then holds the physics step too) with a recorder attached; counted over the held second.
+// The haptic tick and the runtime's physics step allocate nothing after warm-up
+// (docs/architecture.md "Conventions"): a scripted device presses the shipped press scene's lobe in
+// 0.5 s and holds, in lock-step (the tick then holds the physics step too) with a recorder
+// attached; counted over the held second.
 #include <gtest/gtest.h>
 
 #include <filesystem>

@@ -1,5 +1,6 @@
-// No heap allocation inside Simulation::step after the first steps (DESIGN.md §3): a counting
-// global operator new (for this whole test binary; it counts only while a window is open).
+// No heap allocation inside Simulation::step after the first steps (docs/architecture.md
+// "Conventions"): a counting global operator new (for this whole test binary; it counts only while
+// a window is open).
 #include <gtest/gtest.h>
 
 #include "support/allocation_counter.h"

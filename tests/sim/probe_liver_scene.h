@@ -13,7 +13,7 @@ namespace trocar::test {
 
 /// The scene text, or nothing when the shared meshes are absent. The probe's hook tip starts
 /// 1 cm above the liver's top and goes down 2 cm in `press_time` seconds, then holds.
-/// `method`: the response method (DESIGN.md §4).
+/// `method`: the response method (docs/response.md "Baselines").
 inline std::optional<std::string> probe_liver_scene_text(double press_time = 1.0, const std::string& method = "obb") {
   const std::optional<std::filesystem::path> liver_found = test::shared_mesh_path("liver_sofa_smooth.obj");
   const std::optional<std::filesystem::path> probe_found = test::shared_mesh_path("probe_hook_electrode_lapgym.stl");

@@ -21,7 +21,7 @@ Simulation probe_sim(ResponseMethod method, Real max_force) {
   return Simulation(std::move(scene.world), scene.settings);
 }
 
-// DESIGN.md §8: max_force limits the force reported to the instrument and the device, never the
+// max_force limits the force reported to the instrument and the device, never the
 // correction of the tissue. A limit of 1 mN against one of 1 kN: the same tissue, bit for bit,
 // for every method; only the reported force differs (and is capped at 1 mN).
 TEST(MaxForce, NeverClampsTheTissuesCorrection) {

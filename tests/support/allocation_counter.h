@@ -1,7 +1,7 @@
 #pragma once
-// A counting global operator new for the "no allocation after warm-up" tests (DESIGN.md §3).
-// Linking trocar_test_allocation_counter replaces operator new/delete for the whole test
-// binary; allocations are counted only while g_counting is true.
+// A counting global operator new for the "no allocation after warm-up" tests (docs/architecture.md
+// "Conventions"). Linking trocar_test_allocation_counter replaces operator new/delete for the whole
+// test binary; allocations are counted only while g_counting is true.
 #include <atomic>
 
 namespace trocar::test {

@@ -1,7 +1,7 @@
-// No heap allocation inside MassSpringIntegrator::step (DESIGN.md §3), not even on the first
-// step: a counting global operator new (replacing the one of this whole test binary; it only
-// counts while a window is open) around step() for every integrator, with contacts present, and
-// around the loads' clear() and add_force() that precede each step.
+// No heap allocation inside MassSpringIntegrator::step (docs/architecture.md "Conventions"), not
+// even on the first step: a counting global operator new (replacing the one of this whole test
+// binary; it only counts while a window is open) around step() for every integrator, with contacts
+// present, and around the loads' clear() and add_force() that precede each step.
 #include <gtest/gtest.h>
 
 #include "support/allocation_counter.h"

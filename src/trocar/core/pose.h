@@ -12,7 +12,8 @@ struct Pose {
   Vec3 translation = Vec3::Zero();      ///< metres
 
   static Pose identity() { return {}; }
-  /// R = Rz(c)·Ry(b)·Rx(a) for degrees [a, b, c] (DESIGN.md §5: fixed x, then y, then z).
+  /// R = Rz(c)·Ry(b)·Rx(a) for degrees [a, b, c] (about the fixed x, then y, then z axes;
+  /// docs/scene.md "Meshes").
   static Pose from_euler_deg(const Vec3& translation, const Vec3& degrees_xyz);
 
   Vec3 apply(const Vec3& p) const { return rotation * p + translation; }  ///< a point

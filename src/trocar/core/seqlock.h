@@ -1,7 +1,7 @@
 #pragma once
-/// A single-writer, many-reader exchange of one trivially copyable struct (DESIGN.md §1: "one
-/// consistent struct per publish"). The writer never waits; a reader copies the payload and
-/// retries if a publish overlapped its copy, so it never returns halves of two samples.
+/// A single-writer, many-reader exchange of one trivially copyable struct (one consistent
+/// struct per publish, docs/runtime.md "Exchange"). The writer never waits; a reader copies the
+/// payload and retries if a publish overlapped its copy, so it never returns halves of two samples.
 ///
 /// Seqlock with an atomic payload (Boehm, "Can seqlocks get along with programming language
 /// memory models?", MSPC 2012, fig. 6): the payload is stored as relaxed atomic 64-bit words, so

@@ -1,8 +1,8 @@
 #pragma once
-/// A single-producer, single-consumer triple buffer (DESIGN.md §1: "one consistent struct per
-/// publish by an atomic index swap"). The writer fills its back slot and swaps it with the middle
-/// one; the reader swaps the middle slot into its front when a new one was published. Neither
-/// side ever waits and no slot is shared: unlike a Seqlock the payload may own heap memory
+/// A single-producer, single-consumer triple buffer (one consistent struct per publish by an
+/// atomic index swap, docs/runtime.md "Exchange"). The writer fills its back slot and swaps it with
+/// the middle one; the reader swaps the middle slot into its front when a new one was published.
+/// Neither side ever waits and no slot is shared: unlike a Seqlock the payload may own heap memory
 /// (vectors sized once and reused), which a renderer's snapshot of a deforming mesh needs.
 #include <array>
 #include <atomic>

@@ -1,5 +1,6 @@
 #pragma once
-/// Scalar and vector types used everywhere in trocar (DESIGN.md §3: SI units, Real = double).
+/// Scalar and vector types used everywhere in trocar (SI units, Real = double; docs/architecture.md
+/// "Conventions").
 #include <array>
 #include <cstdint>
 

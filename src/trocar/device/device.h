@@ -1,7 +1,7 @@
 #pragma once
-/// The device layer (DESIGN.md §1, §2): what moves an instrument and renders its force. A driver
-/// reports poses in metres in its own frame; the runtime maps that frame into the world
-/// (runtime/device_mapping.h) and couples the instrument to it.
+/// The device layer (docs/devices.md, docs/architecture.md "Layout"): what moves an instrument and
+/// renders its force. A driver reports poses in metres in its own frame; the runtime maps that
+/// frame into the world (runtime/device_mapping.h) and couples the instrument to it.
 #include <cstdint>
 #include <memory>
 #include <string>

@@ -13,7 +13,7 @@ struct RayObbHit {
   Real t_entry = 0;            ///< distance from origin to where the ray enters (0 if inside)
   Real t_exit = 0;             ///< distance from origin to where the ray leaves the box
   Vec3 entry = Vec3::Zero();   ///< origin + t_entry·d̂ (origin itself when inside)
-  Vec3 exit = Vec3::Zero();    ///< origin + t_exit·d̂: the exit point (seed §4 step 5)
+  Vec3 exit = Vec3::Zero();    ///< origin + t_exit·d̂: the exit point (docs/response.md, step 5)
 };
 
 /// The ray from `origin` along `direction` (any non-zero length; it is normalised) against the

@@ -1,5 +1,6 @@
 #pragma once
-/// A rigid laparoscopic instrument: mesh, pose, velocity, OBB, top vertex and jaws (DESIGN.md §4).
+/// A rigid laparoscopic instrument: mesh, pose, velocity, OBB, top vertex and jaws
+/// (docs/response.md "The instrument").
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -78,7 +79,8 @@ class Instrument {
     return linear_velocity_ + angular_velocity_.cross(x - pose_.translation);
   }
 
-  /// Jaw closure, dimensionless: 0 open, 1 closed (DESIGN.md §5 `jaw`).
+  /// Jaw closure, dimensionless: 0 open, 1 closed (scene keyframe key `jaw`, docs/scene.md
+  /// "Instruments").
   Real jaw() const { return jaw_; }
   /// Sets the jaw closure, clamped to [0, 1] (NaN gives 0).
   void set_jaw(Real closure);

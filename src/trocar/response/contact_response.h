@@ -1,5 +1,6 @@
 #pragma once
-/// The per-contact kernel of the seed's collision response (DESIGN.md §4 steps 1–9).
+/// The per-contact kernel of the seed's collision response (steps 1–9 of docs/response.md "The
+/// kernel, step by step").
 #include <array>
 #include <cstdint>
 #include <span>
@@ -54,11 +55,11 @@ struct ContactResponse {
   Vec3 force = Vec3::Zero();        ///< F on the tissue at P (N), = f·n_in with f ≥ 0
 };
 
-/// The seed's response for one contact (steps 1–9 of DESIGN.md §4; grasping is the solver's).
-/// `box` is the instrument's OBB in the world (fitted once, carried by the pose); `top` the
-/// world position of its top vertex, or nullptr to skip the pierced-organ filter;
-/// `instrument_positions` the instrument's world vertices (read by the `normal` method only;
-/// empty: A's three vertices). No allocation; never NaN for finite input (docs/response.md).
+/// The seed's response for one contact (steps 1–9 of docs/response.md "The kernel, step by step";
+/// grasping is the solver's). `box` is the instrument's OBB in the world (fitted once, carried by
+/// the pose); `top` the world position of its top vertex, or nullptr to skip the pierced-organ
+/// filter; `instrument_positions` the instrument's world vertices (read by the `normal` method
+/// only; empty: A's three vertices). No allocation; never NaN for finite input (docs/response.md).
 ContactResponse respond_contact(const ContactTriangles& tri, const Obb& box, const Vec3* top,
                                 std::span<const Vec3> instrument_positions,
                                 const ResponseSettings& settings);

@@ -1,5 +1,6 @@
 #pragma once
-/// Grasping (DESIGN.md §4 step 10): tissue vertices held by closed jaws follow the instrument.
+/// Grasping (step 10 of the seed's response, docs/response.md "The step"): tissue vertices held by
+/// closed jaws follow the instrument.
 #include <cstdint>
 #include <span>
 #include <vector>

@@ -1,5 +1,6 @@
 #pragma once
-/// Collision-response settings and the method switch (scene key `response`, DESIGN.md §4–5).
+/// Collision-response settings and the method switch (scene key `response`, docs/scene.md
+/// "collision and response", docs/response.md).
 #include <cstdint>
 #include <optional>
 #include <string_view>
@@ -10,7 +11,7 @@ namespace trocar {
 
 /// Which response computes the depth (scene `response.method`; docs/response.md).
 enum class ResponseMethod : std::uint8_t {
-  kObb,        ///< "obb": the seed's algorithm, §4 steps 1–10 (OBB depth PD, deformation D)
+  kObb,        ///< "obb": the seed's response, docs/response.md steps 1–10 (OBB depth PD, D)
   kPrimitive,  ///< "primitive": depth of the instrument triangle's deepest vertex below the tissue
                ///< plane (the two triangles alone); force along n_in and the tissue triangle
                ///< moved apart by that depth (position correction), primitive by primitive
@@ -27,7 +28,8 @@ const char* response_method_name(ResponseMethod method);
 /// The method named `name` (exact, lower case), or nothing.
 std::optional<ResponseMethod> parse_response_method(std::string_view name);
 
-/// Parameters of the penalty response. Defaults are DESIGN.md §5's example scene.
+/// Parameters of the response methods (scene key `response`; docs/scene.md "collision and
+/// response" lists the defaults).
 struct ResponseSettings {
   /// See ResponseMethod. sdf: of the methods, the most runs of the robustness suite within the
   /// contact targets and the step budget (docs/robustness.md); the shipped scenes name theirs.

@@ -1,8 +1,9 @@
 #pragma once
-/// The real-time runtime around Simulation::step (DESIGN.md §1): a haptic thread at 1–10 kHz
-/// renders force from the local contact models while a physics thread steps the simulation at
-/// its own rate (multirate), or physics runs inside the haptic tick (lock-step). Threads exchange
-/// one consistent struct per publish through Seqlocks; a recorder drains both into a file.
+/// The real-time runtime around Simulation::step (docs/runtime.md, docs/architecture.md "The
+/// real-time runtime"): a haptic thread at 1–10 kHz renders force from the local contact models
+/// while a physics thread steps the simulation at its own rate (multirate), or physics runs inside
+/// the haptic tick (lock-step). Threads exchange one consistent struct per publish through
+/// Seqlocks; a recorder drains both into a file.
 #include <atomic>
 #include <cstdint>
 #include <memory>
@@ -60,7 +61,7 @@ struct RuntimeChannel {
   std::string where;               ///< e.g. "scene.json: instruments[0].device" (for errors)
 };
 
-/// What a run measured (DESIGN.md §6 `haptic` section).
+/// What a run measured (the report's `haptic` section, docs/runtime.md "Performance monitor").
 struct RuntimeReport {
   std::uint64_t ticks = 0;                 ///< haptic ticks run
   double rate_hz = 0;                      ///< achieved tick rate

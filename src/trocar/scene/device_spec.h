@@ -1,7 +1,7 @@
 #pragma once
-/// An instrument's `"device"` (DESIGN.md §5, docs/scene.md): which driver moves it in real-time
-/// mode, where the device's frame sits in the world, and the coupling and force limits. Plain
-/// data: the runtime builds the driver (the core never links a device library).
+/// An instrument's `"device"` (docs/scene.md "Instruments", docs/devices.md): which driver moves it
+/// in real-time mode, where the device's frame sits in the world, and the coupling and force
+/// limits. Plain data: the runtime builds the driver (the core never links a device library).
 #include <filesystem>
 #include <string>
 

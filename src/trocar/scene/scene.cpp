@@ -17,7 +17,7 @@ namespace trocar {
 namespace {
 
 /// "mesh", "scale", "translate", "rotate_deg", "repair" of any object: the mesh with
-/// x ↦ translate + R·(scale·x) applied (DESIGN.md §5 placement).
+/// x ↦ translate + R·(scale·x) applied (docs/scene.md "Meshes").
 TriMesh placed_mesh(const JsonReader& obj, const std::filesystem::path& dir) {
   TriMesh mesh = load_mesh_source(obj.at("mesh"), dir);
   const Real scale = obj.has("scale") ? obj.at("scale").number_above(0) : 1.0;

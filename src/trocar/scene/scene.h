@@ -1,5 +1,5 @@
 #pragma once
-/// Scene files (JSON, schema 1, DESIGN.md §5 and docs/scene.md) → a World and its settings.
+/// Scene files (JSON, schema 1, docs/scene.md) → a World and its settings.
 #include <filesystem>
 #include <string>
 #include <string_view>

@@ -1,4 +1,4 @@
-// The penetration and tunneling metrics on an open tissue (a sheet), DESIGN.md §6. A sheet has
+// The penetration and tunneling metrics on an open tissue (a sheet), docs/scene.md. A sheet has
 // no inside, so a vertex's state is its side: the sign of its signed distance (the pseudonormal
 // of its closest feature). The side is unknown while that feature is on the sheet's border (the
 // vertex can go around the edge) or the vertex is away from the sheet. A vertex whose known side

@@ -1,6 +1,6 @@
 #pragma once
-/// One step of the simulation, DESIGN.md §1: motion → instrument poses → broad phase → narrow
-/// phase → response → deformation → metrics.
+/// One step of the simulation (docs/architecture.md): motion → instrument poses → broad
+/// phase → narrow phase → response → deformation → metrics.
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -24,7 +24,7 @@ struct SimulationSettings {
   BroadPhaseKind broad_phase = BroadPhaseKind::kOhc;  ///< scene collision.broad_phase
   Real cell_size = 0;             ///< OHC cell edge (m); 0 = auto (scene "auto")
   /// Time between two detections (s); ≤ 0 = every step. Between detections the step has no
-  /// contacts (a slow detector that the instrument outruns, DESIGN.md §5).
+  /// contacts (a slow detector that the instrument outruns; docs/scene.md, `collision.period`).
   Real collision_period = 0;
   ResponseSettings response;      ///< method, gains, clamp
   bool measure_penetration = true;  ///< compute penetration and tunneling metrics each step

@@ -1,9 +1,10 @@
 #pragma once
-/// What a renderer needs of one simulation step (DESIGN.md §1 "snapshot"): deformed tissue
-/// positions, instrument poses, forces, contacts and timings. Built by the thread that steps the
-/// simulation and read by the renderer on its own thread (through core/triple_buffer.h), so the
-/// renderer never touches the Simulation. Vectors keep their capacity: after the first capture
-/// of a scene, capture_view allocates only when more contacts appear than ever before.
+/// What a renderer needs of one simulation step (docs/architecture.md "One step", its last stage):
+/// deformed tissue positions, instrument poses, forces, contacts and timings. Built by the thread
+/// that steps the simulation and read by the renderer on its own thread (through
+/// core/triple_buffer.h), so the renderer never touches the Simulation. Vectors keep their
+/// capacity: after the first capture of a scene, capture_view allocates only when more contacts
+/// appear than ever before.
 #include <cstdint>
 #include <vector>
 

@@ -19,7 +19,7 @@ namespace trocar {
 namespace {
 
 constexpr Real kPressSpeed = 0.02;     ///< m/s, the press and the grasp's approach
-constexpr Real kSlideSpeed = 0.04;     ///< m/s (the issue's 40 mm/s)
+constexpr Real kSlideSpeed = 0.04;     ///< m/s (40 mm/s, docs/robustness.md)
 constexpr Real kSlideLength = 0.02;    ///< m
 constexpr Real kApproach = 0.005;      ///< m above the top where every motion starts
 constexpr Real kMaxPress = 0.008;      ///< m

@@ -1,8 +1,8 @@
 #pragma once
-/// The elastic energy of a tissue state, measured every simulation step (DESIGN.md §6 metrics):
-/// the same value as potential_energy() without gravity, computed with the integrators' padded
-/// AVX2 passes (springs four at a time, one triangle pass for the volume) instead of the scalar
-/// reference. On the shared liver this is the larger part of a step's metrics.
+/// The elastic energy of a tissue state, measured every simulation step (docs/scene.md "What a step
+/// measures"): the same value as potential_energy() without gravity, computed with the integrators'
+/// padded AVX2 passes (springs four at a time, one triangle pass for the volume) instead of the
+/// scalar reference. On the shared liver this is the larger part of a step's metrics.
 #include <span>
 
 #include "trocar/core/types.h"

@@ -16,7 +16,7 @@
 
 namespace trocar {
 
-/// The integrators a scene can choose per tissue (DESIGN.md §5 "integrator").
+/// The integrators a scene can choose per tissue (scene key `integrator`, docs/scene.md "Tissues").
 enum class IntegratorKind {
   kExplicitEuler,      ///< x += h v; v += h a(x, v)           (the seed's)
   kSemiImplicitEuler,  ///< v += h a(x, v); x += h v          (symplectic)

@@ -10,9 +10,9 @@
 
 namespace trocar {
 
-/// Per-tissue material, in SI units (DESIGN.md §5 "material"). Stiffnesses are per spring or
-/// per constraint, not per unit length, so they mean the same on any mesh resolution only
-/// roughly: docs/tissue.md says how to choose them.
+/// Per-tissue material, in SI units (scene key `material`, docs/tissue.md "Material fields and
+/// their units"). Stiffnesses are per spring or per constraint, not per unit length, so they mean
+/// the same on any mesh resolution only roughly: docs/tissue.md says how to choose them.
 struct MassSpringMaterial {
   Real mass = 0;                  ///< total mass (kg); used when > 0, else from density
   Real density = 1060;            ///< kg/m³ (soft tissue ≈ 1060); closed: × volume
