@@ -1,6 +1,6 @@
 #pragma once
 /// The penetration and tunneling metrics: a measuring instrument beside the step, not part of it
-/// (docs/architecture.md, "Metrics"). Turning it off changes no state.
+/// (docs/architecture.md, "One step", and docs/scene.md, "What a step measures"). Turning it off changes no state.
 #include <cstdint>
 #include <memory>
 #include <span>
