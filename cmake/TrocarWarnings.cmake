@@ -53,6 +53,7 @@ function(trocar_add_test name)
   set(serial FALSE)
   if(T_REAL_TIME)
     set(serial TRUE)
+    list(APPEND labels real_time)
   endif()
   gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60 TEST_PREFIX "${name}."
     PROPERTIES ENVIRONMENT "LSAN_OPTIONS=suppressions=${PROJECT_SOURCE_DIR}/tests/lsan.supp"

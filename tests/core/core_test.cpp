@@ -148,3 +148,9 @@ TEST(TripleBuffer, ReaderSeesTheNewestWholeSnapshot) {
 
 }  // namespace
 }  // namespace trocar
+
+// The test build of scripts/test and CI keeps assert() on (TROCAR_ASSERTS): a Release flag
+// that crept back in would silently turn every assertion off.
+#if defined(TROCAR_ASSERTS) && defined(NDEBUG)
+#error "TROCAR_ASSERTS is on but NDEBUG is defined: the assertions would not run"
+#endif
