@@ -1,6 +1,6 @@
 #pragma once
-/// Multirate fidelity (issue: the force the haptic loop renders at 1 kHz with physics at its own
-/// rate, against a lock-step reference at the same device poses): RMS error relative to the peak
+/// Multirate fidelity (docs/runtime.md, "Multirate fidelity"): the force the haptic loop renders
+/// at 1 kHz with physics at its own rate, against a lock-step reference at the same device poses: RMS error relative to the peak
 /// force, and the largest force jump per tick when a new model arrives.
 #include <cstdint>
 #include <filesystem>
