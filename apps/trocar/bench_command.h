@@ -1,12 +1,12 @@
 #pragma once
-// `trocar bench collision`: trocar's collision detection against FCL and Bullet on two meshes.
+// `trocar bench ...`: runs the trocar-bench program beside this one (trocar measured against
+// FCL and Bullet, apps/trocar-bench), so that `trocar` itself links no peer library.
 #include <CLI/CLI.hpp>
 
 namespace trocar::cli {
 
-/// Adds the `bench` subcommand and its `collision` subcommand. The handler runs from a CLI11
-/// callback and throws trocar::Error on failure (unreadable or empty mesh, naming the file);
-/// `exit_code` receives 1 when the methods disagree on a frame's pair count.
+/// Adds the `bench` subcommand: every argument after it goes to trocar-bench. Throws
+/// trocar::Error saying what to build when this build has no trocar-bench.
 void add_bench_command(CLI::App& app, int& exit_code);
 
 }  // namespace trocar::cli

@@ -1,15 +1,15 @@
 // trocar: the command-line program. Each subcommand lives in its own file.
 #include <CLI/CLI.hpp>
-#include <iostream>
 
 #include "bench_command.h"
+#include "cli_main.h"
 #include "mesh_build_command.h"
 #include "mesh_command.h"
-#include "realtime_command.h"
+#include "plot_command.h"
+#include "replay_command.h"
 #include "run_command.h"
 #include "study_command.h"
 #include "view_command.h"
-#include "trocar/core/error.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"trocar: real-time simulation of laparoscopic instruments on deformable organs"};
@@ -23,16 +23,5 @@ int main(int argc, char** argv) {
   trocar::cli::add_replay_command(app, exit_code);
   trocar::cli::add_plot_command(app, exit_code);
   trocar::cli::add_view_command(app, exit_code);
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return app.exit(e);
-  } catch (const trocar::Error& e) {
-    std::cerr << "trocar: error: " << e.what() << "\n";
-    return 1;
-  } catch (const std::exception& e) {
-    std::cerr << "trocar: internal error: " << e.what() << "\n";
-    return 2;
-  }
-  return exit_code;
+  return trocar::cli::run_main(app, argc, argv, exit_code, "trocar");
 }

@@ -184,8 +184,8 @@ void run_phantom(const PhantomArgs& a) {
 #else
 
 [[noreturn]] void no_modelling() {
-  throw Error("this trocar was built without the modelling module (install libvtk9-dev and libinsighttoolkit5-dev, "
-              "e.g. with scripts/setup, and rebuild: docs/build.md)");
+  throw Error("this trocar was built without the modelling module (install libvtk9-dev, libinsighttoolkit5-dev and "
+              "libcgal-dev, e.g. with scripts/setup, and rebuild: docs/build.md)");
 }
 
 #endif
@@ -238,9 +238,10 @@ void add_mesh_build_commands(CLI::App& mesh, int& exit_code) {
   labels->callback([labels_file] { run_labels(*labels_file); });
   phantom->callback([p] { run_phantom(*p); });
 #else
-  build->callback([] { no_modelling(); });
-  labels->callback([] { no_modelling(); });
-  phantom->callback([] { no_modelling(); });
+  // The callbacks hold the option targets alive (CLI11 writes into them while parsing).
+  build->callback([a] { no_modelling(); });
+  labels->callback([labels_file] { no_modelling(); });
+  phantom->callback([p] { no_modelling(); });
 #endif
 }
 

@@ -1,6 +1,5 @@
 #pragma once
-// `trocar run SCENE --realtime`, `trocar replay RECORDING`, `trocar plot timing RECORDING`: the
-// real-time runtime from the command line (docs/runtime.md).
+// `trocar run SCENE --realtime`: a scene on the real-time runtime (docs/runtime.md).
 #include <CLI/CLI.hpp>
 #include <string>
 
@@ -22,10 +21,5 @@ struct RealtimeOptions {
 /// Runs a scene on the runtime and writes the report with its `haptic` section.
 void run_realtime(const RealtimeOptions& options);
 
-/// Adds the `replay` and `plot` subcommands.
-void add_replay_command(CLI::App& app, int& exit_code);
-void add_plot_command(CLI::App& app, int& exit_code);
-/// Adds `trocar study multirate` (the multirate fidelity measurement) under `study`.
-void add_multirate_command(CLI::App& study);
 
 }  // namespace trocar::cli

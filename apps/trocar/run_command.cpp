@@ -14,11 +14,14 @@
 #include <string>
 #include <vector>
 
+#include "cli_support.h"
 #include "frame_size.h"
 #include "realtime_command.h"
 #include "trocar/core/error.h"
+#include "trocar/core/statistics.h"
 #include "trocar/scene/scene.h"
 #include "trocar/sim/simulation.h"
+#include "trocar/study/scene_driver.h"
 #ifdef TROCAR_HAVE_RENDER
 #include "trocar/render/frame_recorder.h"
 #endif
@@ -27,10 +30,6 @@ namespace trocar::cli {
 namespace {
 
 namespace fs = std::filesystem;
-
-/// Vertex speed above which a tissue is declared unstable (m/s): no tissue point in a
-/// laparoscopic scene moves at 100 m/s; an exploding integrator passes it within a few steps.
-constexpr double kUnstableSpeed = 100.0;
 
 struct Options {
   std::string scene;
@@ -46,25 +45,10 @@ struct Options {
   std::string camera = "scope";
 };
 
-/// median, p99 and max of samples (0 for none).
-nlohmann::json summary(std::vector<double> v) {
-  if (v.empty()) return {{"median", 0.0}, {"p99", 0.0}, {"max", 0.0}};
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  const auto p99 = static_cast<std::size_t>(std::ceil(0.99 * static_cast<double>(n))) - 1;
-  return {{"median", n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2])}, {"p99", v[p99]}, {"max", v.back()}};
-}
-
-/// Writes `text` to `path` through a temporary file in the same folder and a rename.
-void write_atomically(const fs::path& path, const std::string& text) {
-  const fs::path tmp = path.string() + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    if (!out) throw Error(path.string() + ": cannot write");
-    out << text;
-    if (!out) throw Error(path.string() + ": write failed");
-  }
-  fs::rename(tmp, path);
+/// median, p99 and max of samples (core/statistics.h; 0 for none).
+nlohmann::json summary(const std::vector<double>& v) {
+  const Summary s = summarize(v);
+  return {{"median", s.median}, {"p99", s.p99}, {"max", s.max}};
 }
 
 class Progress {
@@ -95,16 +79,12 @@ class Progress {
 
 void run(const Options& o) {
   Scene scene = load_scene(o.scene);
-  if (!o.method.empty()) {
-    const auto method = parse_response_method(o.method);
-    if (!method) throw Error("--method: unknown method \"" + o.method + "\" (known: sdf, obb, primitive, normal, project)");
-    scene.settings.response.method = *method;
-  }
+  apply_method_option(scene, o.method);
   if (o.duration >= 0) scene.duration = o.duration;
   const double dt = scene.timestep;
-  const auto steps = static_cast<std::size_t>(std::ceil(scene.duration / dt - 1e-9));
+  const std::size_t steps = step_count(scene.duration, dt);
 
-  Simulation sim(std::move(scene.world), scene.settings);
+  Simulation sim = make_simulation(scene);
   const World& world = sim.world();
 #ifdef TROCAR_HAVE_RENDER
   std::unique_ptr<FrameRecorder> frames;
@@ -142,12 +122,10 @@ void run(const Options& o) {
   for (auto* v : {&t_broad, &t_narrow, &t_response, &t_deform, &t_step}) v->reserve(steps);
   std::vector<double> depths, forces;
   std::uint64_t pairs_total = 0, pairs_max = 0, steps_with_contact = 0, tunneling = 0;
-  bool stable = true;
   Progress progress(o.quiet, steps);
   const auto wall0 = std::chrono::steady_clock::now();
   std::size_t done = 0;
-  for (; done < steps; ++done) {
-    const StepMetrics& m = sim.step(dt);
+  const DriveResult drive_result = drive(sim, dt, steps, [&](const StepMetrics& m) {
     t_broad.push_back(m.timings.broad_phase);
     t_narrow.push_back(m.timings.narrow_phase);
     t_response.push_back(m.timings.response);
@@ -180,21 +158,14 @@ void run(const Options& o) {
 #ifdef TROCAR_HAVE_RENDER
     if (frames) frames->on_step(sim);
 #endif
-    progress.update(done + 1, m.time);
-    if (!m.finite || m.max_speed > kUnstableSpeed) {
-      stable = false;
-      ++done;
-      break;
-    }
-  }
+    progress.update(++done, m.time);
+  });
+  const bool stable = drive_result.stable;
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
 
   const nlohmann::json depth = summary(depths);
-  double depth_mean = 0, force_mean = 0, force_max = 0;
-  for (double d : depths) depth_mean += d;
-  if (!depths.empty()) depth_mean /= static_cast<double>(depths.size());
-  for (double f : forces) force_mean += f, force_max = std::max(force_max, f);
-  if (!forces.empty()) force_mean /= static_cast<double>(forces.size());
+  const double depth_mean = mean(depths), force_mean = mean(forces);
+  const double force_max = forces.empty() ? 0 : *std::max_element(forces.begin(), forces.end());
 
   nlohmann::json report = {
       {"scene", scene.name},

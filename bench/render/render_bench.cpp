@@ -19,6 +19,7 @@
 #include "trocar/runtime/runtime.h"
 #include "trocar/runtime/session.h"
 #include "trocar/scene/scene.h"
+#include "trocar/study/scene_driver.h"
 
 namespace trocar {
 namespace {
@@ -53,7 +54,7 @@ void BM_RenderFrame1280x720(benchmark::State& state) {
   Scene scene = parse_scene(*text, "bench scene", TROCAR_BENCH_SCENES);
   const std::vector<CameraSpec> cameras = scene.cameras;
   Simulation sim(std::move(scene.world), scene.settings);
-  for (int i = 0; i < 500; ++i) sim.step(scene.timestep);
+  drive(sim, scene.timestep, 500);
   OffscreenContext ctx(1280, 720, int(state.range(1)));
   Renderer renderer(sim.world());
   const CameraView cam = make_camera_view(select_camera(cameras, sim.world(), "scope"), 1280.0 / 720.0);
@@ -89,7 +90,7 @@ void BM_HapticLoopBesideRenderer(benchmark::State& state) {
     const std::vector<CameraSpec> cameras = scene.cameras;
     const Real timestep = scene.timestep;
     Simulation sim(std::move(scene.world), scene.settings);
-    for (int i = 0; i < 500; ++i) sim.step(timestep);
+    drive(sim, timestep, 500);
     RuntimeSettings settings;
     settings.haptic_rate_hz = 1000;
     settings.duration = 3.0;

@@ -23,6 +23,7 @@
 #include "trocar/runtime/runtime.h"
 #include "trocar/runtime/session.h"
 #include "trocar/scene/scene.h"
+#include "trocar/study/scene_driver.h"
 
 namespace trocar {
 namespace {
@@ -102,7 +103,7 @@ void BM_HapticLoopBesidePhysics(benchmark::State& state) {
     const std::vector<DeviceSpec> devices = scene.devices;
     const Real timestep = scene.timestep;
     Simulation sim(std::move(scene.world), scene.settings);
-    for (int i = 0; i < 500; ++i) sim.step(timestep);  // warm-up press (the step's first-contact allocations)
+    drive(sim, timestep, 500);  // warm-up press (the step's first-contact allocations)
     RuntimeSettings settings;
     settings.haptic_rate_hz = double(state.range(1));
     settings.duration = 3.0;

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "trocar/study/robustness.h"
+#include "trocar/study/scene_driver.h"
 
 namespace trocar {
 namespace {
@@ -25,8 +26,7 @@ void BM_SuitePressHeld(benchmark::State& state) {
   SimulationSettings settings = suite_settings(method);
   settings.measure_penetration = false;
   Simulation sim(std::move(world), settings);
-  const int warm = static_cast<int>(duration / 1e-3);
-  for (int n = 0; n < warm; ++n) sim.step(1e-3);
+  drive(sim, 1e-3, static_cast<std::size_t>(duration / 1e-3));
   double deformation = 0, cg = 0, contacts = 0;
   std::int64_t steps = 0;
   for (auto _ : state) {

@@ -5,6 +5,7 @@
 
 #include "../../tests/sim/probe_liver_scene.h"
 #include "trocar/sim/simulation.h"
+#include "trocar/study/scene_driver.h"
 
 namespace trocar {
 namespace {
@@ -18,9 +19,9 @@ void BM_ProbeLiverStep(benchmark::State& state) {
   }
   Scene scene = parse_scene(*text, "probe-liver.json", "/");
   scene.settings.measure_penetration = state.range(0) != 0;
-  Simulation sim(std::move(scene.world), scene.settings);
+  Simulation sim = make_simulation(scene);
   // Warm up into contact: 0.6 s (the probe is pressed in from t = 0.5 s).
-  for (int n = 0; n < 600; ++n) sim.step(1e-3);
+  drive(sim, 1e-3, 600);
   StageTimings sum{};
   std::int64_t steps = 0;
   std::uint64_t contacts = 0, cg_iterations = 0;

@@ -1,4 +1,6 @@
-// Runs `trocar bench collision` as a user would, on small meshes made with `trocar mesh generate`.
+// Runs `trocar bench collision` as a user would, on small meshes made with `trocar mesh generate`
+// (`trocar bench` runs trocar-bench, built with TROCAR_BUILD_PEERS); and a `trocar` without
+// trocar-bench beside it says what to build.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -48,6 +50,20 @@ class BenchCli : public ::testing::Test {
   fs::path dir_;
 };
 
+TEST_F(BenchCli, WithoutTrocarBenchSaysWhatToBuild) {
+  // A copy of trocar alone in a folder: no trocar-bench beside it.
+  const fs::path lone = dir_ / "lone" / "trocar";
+  fs::create_directories(lone.parent_path());
+  fs::copy_file(TROCAR_CLI, lone);
+  const RunResult r = trocar::test::run_program(lone.string(), "bench collision --tissue " + path("tissue.obj") +
+                                                                   " --tool " + path("tool.stl"));
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("trocar-bench"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("-DTROCAR_BUILD_PEERS=ON"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("libfcl-dev"), std::string::npos) << r.output;
+}
+
+#ifdef TROCAR_HAVE_BENCH_PROGRAM
 TEST_F(BenchCli, JsonListsEveryMethodWithTheSamePairCount) {
   const RunResult r =
       run("bench collision --tissue " + path("tissue.obj") + " --tool " + path("tool.stl") + " --frames 5 --json", true);
@@ -114,5 +130,6 @@ TEST_F(BenchCli, RequiresBothMeshes) {
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.output.find("--tool"), std::string::npos) << r.output;
 }
+#endif  // TROCAR_HAVE_BENCH_PROGRAM
 
 }  // namespace

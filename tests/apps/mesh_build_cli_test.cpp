@@ -110,9 +110,17 @@ TEST_F(MeshBuildCli, BadInputNamesFileAndReasonAndWritesNothing) {
 #else
 
 TEST_F(MeshBuildCli, WithoutModellingSaysHowToGetIt) {
-  const RunResult r = run("mesh build x.nii.gz --label 1 -o " + path("x.obj"));
-  EXPECT_EQ(r.exit_code, 1);
-  EXPECT_NE(r.output.find("built without the modelling module"), std::string::npos) << r.output;
+  // Every modelling command, with its options parsed (their targets must outlive the parse).
+  for (const std::string& args : {"mesh build x.nii.gz --label 1 --threshold 1 2 -o " + path("x.obj"),
+                                  std::string("mesh labels x.nii.gz"),
+                                  "mesh phantom sphere --voxel 1 -o " + path("x.nii.gz")}) {
+    const RunResult r = run(args);
+    EXPECT_EQ(r.exit_code, 1) << args << "\n" << r.output;
+    EXPECT_NE(r.output.find("built without the modelling module"), std::string::npos) << r.output;
+    for (const char* package : {"libvtk9-dev", "libinsighttoolkit5-dev", "libcgal-dev"})
+      EXPECT_NE(r.output.find(package), std::string::npos) << package << ": " << r.output;
+  }
+  EXPECT_TRUE(only({}));  // nothing written
 }
 
 #endif

@@ -15,6 +15,7 @@
 #include "trocar/scene/mesh_source.h"
 #include "trocar/scene/scene.h"
 #include "trocar/sim/simulation.h"
+#include "trocar/study/scene_driver.h"
 
 namespace trocar {
 namespace {
@@ -81,20 +82,16 @@ TEST_F(SceneBuild, BuildsOnceThenReadsTheCache) {
 
 TEST_F(SceneBuild, BuiltLiverRunsTwoSecondsStably) {
   Scene scene = load_scene(kScenes / "built_liver.json");
-  Simulation sim(std::move(scene.world), scene.settings);
-  bool finite = true;
-  Real max_kinetic = 0, max_speed = 0;
+  Simulation sim = make_simulation(scene);
+  Real max_speed = 0;
   std::uint64_t applied = 0;
-  for (int s = 0; s < 2000; ++s) {
-    const StepMetrics& m = sim.step(scene.timestep);
-    finite = finite && m.finite;
-    max_kinetic = std::max(max_kinetic, m.kinetic_energy);
+  const DriveResult run = drive(sim, scene.timestep, 2000, [&](const StepMetrics& m) {
     max_speed = std::max(max_speed, m.max_speed);
     applied += m.contacts_applied;
-  }
-  EXPECT_TRUE(finite);
-  EXPECT_LT(max_kinetic, 1.0);  // the stability criterion of tests/apps/shipped_scenes_test.cpp
-  EXPECT_LT(max_speed, 10.0);
+  });
+  EXPECT_TRUE(run.stable);        // core/stability.h
+  EXPECT_EQ(run.steps, 2000u);
+  EXPECT_LT(max_speed, 10.0);     // no vertex flung away (tests/apps/shipped_scenes_test.cpp)
   EXPECT_GT(applied, 0u);  // the probe does press the liver
   TriMesh deformed;
   deformed.positions = sim.world().tissues[0]->state.positions;

@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "trocar/core/error.h"
+#include "trocar/core/statistics.h"
 #include "trocar/mesh/generate.h"
 #include "trocar/mesh/instruments.h"
 #include "trocar/mesh/io/mesh_io.h"
@@ -13,6 +14,7 @@
 #include "trocar/mesh/renumber.h"
 #include "trocar/mesh/repair.h"
 #include "trocar/sim/simulation.h"
+#include "trocar/study/scene_driver.h"
 #include "trocar/tissue/material.h"
 
 namespace trocar {
@@ -47,15 +49,6 @@ void hold(std::vector<Keyframe>& keys, Real seconds, Real jaw = -1) {
   k.t += seconds;
   if (jaw >= 0) k.jaw = jaw;
   keys.push_back(k);
-}
-
-/// The p-quantile (nearest rank) of v; 0 when empty.
-template <typename T>
-T quantile(std::vector<T> v, double p) {
-  if (v.empty()) return T{};
-  std::sort(v.begin(), v.end());
-  const auto k = static_cast<std::size_t>(std::ceil(p * static_cast<double>(v.size())));
-  return v[std::min(k == 0 ? 0 : k - 1, v.size() - 1)];
 }
 
 std::string lower(std::string s) {
@@ -363,18 +356,17 @@ namespace {
 void measure_run(World world, const SimulationSettings& settings, Real duration, SuiteRun& run) {
   Simulation sim(std::move(world), settings);
   constexpr Real dt = 0.001;
-  run.steps = static_cast<std::size_t>(std::ceil(duration / dt - 1e-9));
-  const std::size_t window = std::min(run.steps, static_cast<std::size_t>(std::lround(kEnergyWindow / dt)));
-  std::vector<double> step_us, deform_us, deform_contact_ns, projection_us;
-  std::vector<Real> depths, constraint_errors;
-  step_us.reserve(run.steps);
-  deform_us.reserve(run.steps);
-  constraint_errors.reserve(run.steps);
+  const std::size_t steps = step_count(duration, dt);
+  const std::size_t window = std::min(steps, static_cast<std::size_t>(std::lround(kEnergyWindow / dt)));
+  std::vector<double> step_us, deform_us, deform_contact_ns, projection_us, depths, constraint_errors;
+  step_us.reserve(steps);
+  deform_us.reserve(steps);
+  constraint_errors.reserve(steps);
   double cg_sum = 0, cg_contact_sum = 0, energy_first = 0, energy_last = 0;
   std::size_t first_count = 0, last_count = 0;
   const double per_vertex = 1e3 / static_cast<double>(std::max<std::size_t>(run.vertices, 1));
-  for (std::size_t s = 0; s < run.steps; ++s) {
-    const StepMetrics& m = sim.step(dt);
+  std::size_t s = 0;  // the step's index
+  const DriveResult result = drive(sim, dt, steps, [&](const StepMetrics& m) {
     step_us.push_back(m.timings.step - m.timings.metrics);
     deform_us.push_back(m.timings.deformation);
     cg_sum += m.cg_iterations;
@@ -401,25 +393,24 @@ void measure_run(World world, const SimulationSettings& settings, Real duration,
       energy_first += energy;
       ++first_count;
     }
-    if (s + window >= run.steps) {
+    if (s + window >= steps) {
       energy_last += energy;
       ++last_count;
     }
-    if (!m.finite) {
-      run.stable = false;
-      break;
-    }
-  }
-  run.step_median_us = quantile(step_us, 0.5);
+    ++s;
+  });
+  run.steps = result.steps;
+  run.stable = result.stable;
+  run.step_median_us = median(step_us);
   run.step_p99_us = quantile(step_us, 0.99);
-  run.deform_median_us = quantile(deform_us, 0.5);
+  run.deform_median_us = median(deform_us);
   run.deform_p99_us = quantile(deform_us, 0.99);
-  run.deform_ns_per_vertex_contact = quantile(deform_contact_ns, 0.5);
-  run.projection_median_us = quantile(projection_us, 0.5);
+  run.deform_ns_per_vertex_contact = median(deform_contact_ns);
+  run.projection_median_us = median(projection_us);
   run.cg_mean = step_us.empty() ? 0 : cg_sum / static_cast<double>(step_us.size());
   run.cg_mean_contact = run.contact_steps == 0 ? 0 : cg_contact_sum / static_cast<double>(run.contact_steps);
   run.constraint_error_max = constraint_errors.empty() ? 0 : *std::max_element(constraint_errors.begin(), constraint_errors.end());
-  run.constraint_error_median = quantile(constraint_errors, 0.5);
+  run.constraint_error_median = median(constraint_errors);
   run.penetration_p99 = quantile(depths, 0.99);
   if (run.rest) {
     run.energy_first = first_count == 0 ? 0 : energy_first / static_cast<double>(first_count);

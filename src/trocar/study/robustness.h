@@ -153,7 +153,7 @@ struct SuiteRun {
   std::string material;     ///< suite material name
   std::string instrument;   ///< suite instrument name
   std::size_t vertices = 0, triangles = 0;
-  std::size_t steps = 0;
+  std::size_t steps = 0;    ///< steps simulated (an unstable run stops at its first unstable step)
   double step_median_us = 0, step_p99_us = 0;  ///< the step without the metrics stage
   double deform_median_us = 0, deform_p99_us = 0;  ///< the whole deformation stage
   double projection_median_us = 0;  ///< of it, the sdf projection (steps with contact)
@@ -172,7 +172,7 @@ struct SuiteRun {
   std::uint64_t tunneling = 0;
   Real force_max = 0;        ///< |instrument force| max (N, clamped as the device sees it)
   Real raw_force_max = 0;    ///< unclamped (N)
-  bool stable = true;
+  bool stable = true;       ///< every step stable (core/stability.h)
   /// The rest check (motion rest only): total energy E = kinetic + elastic (StepMetrics), mean
   /// over the first 0.1 s and over the last 0.1 s of the run (J); drift = (last − first)/first
   /// (0 when first is 0); energy_grew = drift > kSuiteEnergyGrowth.

@@ -1,4 +1,4 @@
-#include "trocar/runtime/fidelity.h"
+#include "trocar/study/fidelity.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,7 +1,7 @@
 #pragma once
-/// Multirate fidelity (docs/runtime.md: the force the haptic loop renders at 1 kHz with physics at
-/// its own rate, against a lock-step reference at the same device poses): RMS error relative to the
-/// peak force, and the largest force jump per tick when a new model arrives.
+/// Multirate fidelity (docs/runtime.md, "Multirate fidelity"): the force the haptic loop renders
+/// at 1 kHz with physics at its own rate, against a lock-step reference at the same device poses: RMS error relative to the peak
+/// force, and the largest force jump per tick when a new model arrives.
 #include <cstdint>
 #include <filesystem>
 #include <string>
