@@ -49,6 +49,38 @@ TEST(OpenIgtLinkAbuse, AfterAllOfItAWellBehavedClientDrivesTheDevice) {
   EXPECT_EQ(device.counters().drops, igtl_abuse::Expected{}.drops + 1);
 }
 
+// A client that streams poses and never reads the SENSOR replies: the server's sends would
+// block once the socket buffers are full; it skips replies instead and keeps taking poses.
+TEST(OpenIgtLinkAbuse, AClientThatNeverReadsTheRepliesDoesNotStallTheServer) {
+  OpenIgtLinkSettings settings;
+  settings.port = 0;
+  OpenIgtLinkDevice device(settings);
+  device.open();
+  const int deaf = igtl_abuse::connect_to(device.port());
+  ASSERT_GE(deaf, 0);
+  const std::vector<std::uint8_t> pose = igtl_abuse::transform(Vec3(1, 2, 3), 0);
+  constexpr std::uint64_t kPoses = 100000;  // 9.2 MB of replies, far beyond loopback's buffers
+  std::vector<std::uint8_t> batch;
+  for (int i = 0; i < 1000; ++i) batch.insert(batch.end(), pose.begin(), pose.end());
+  for (std::uint64_t i = 0; i < kPoses / 1000; ++i) ASSERT_NO_FATAL_FAILURE(igtl_abuse::send_all(deaf, batch));
+  EXPECT_TRUE(igtl_abuse::eventually([&] { return device.counters().samples == kPoses; }))
+      << device.counters().samples;
+  const DeviceCounters c = device.counters();
+  EXPECT_GE(c.forces_sent, 1u);
+  EXPECT_LT(c.forces_sent, kPoses);  // the rest were skipped, not waited for
+  // And the server still takes the next client.
+  const int next = igtl_abuse::connect_to(device.port());
+  igtl_abuse::send_all(next, igtl_abuse::transform(Vec3(7, 8, 9), 0));
+  EXPECT_TRUE(igtl_abuse::eventually([&] { return device.counters().samples == kPoses + 1; }));
+  EXPECT_EQ(device.counters().connections, 2u);
+  EXPECT_EQ(device.counters().drops, 1u);
+  DeviceInput in;
+  device.read(0, in);
+  EXPECT_NEAR((in.pose.translation - Vec3(0.007, 0.008, 0.009)).norm(), 0, 1e-9);
+  ::close(deaf);
+  ::close(next);
+}
+
 }  // namespace
 }  // namespace trocar
 #else

@@ -43,7 +43,8 @@ bool eventually(Pred pred, double seconds = 10.0) {
   return true;
 }
 
-/// A blocking loopback connection with a 10 s receive timeout; -1 if refused.
+/// A blocking loopback connection with 10 s receive and send timeouts (a stalled server fails a
+/// test instead of hanging it); -1 if refused.
 inline int connect_to(int port) {
   const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
   sockaddr_in a{};
@@ -56,6 +57,7 @@ inline int connect_to(int port) {
   }
   const timeval limit{10, 0};
   ::setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &limit, sizeof limit);
+  ::setsockopt(fd, SOL_SOCKET, SO_SNDTIMEO, &limit, sizeof limit);
   return fd;
 }
 
