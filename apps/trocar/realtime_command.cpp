@@ -25,6 +25,19 @@ nlohmann::json histogram_json(const TimingHistogram& h) {
   return {{"median", h.median()}, {"p99", h.p99()}, {"max", h.max()}, {"mean", h.mean()}, {"count", h.count()}};
 }
 
+// One device's counters: what a driver does not count stays 0 (the scripted and replay drivers
+// have one connection and never drop; only openigtlink sees malformed messages).
+nlohmann::json device_json(const DeviceReport& d) {
+  const DeviceCounters& c = d.counters;
+  return {{"name", d.name},
+          {"poses_accepted", c.samples},
+          {"malformed", c.malformed},
+          {"connections", c.connections},
+          {"drops", c.drops},
+          {"forces_sent", c.forces_sent},
+          {"disconnects_seen", d.disconnects}};
+}
+
 }  // namespace
 
 void run_realtime(const RealtimeOptions& o) {
@@ -65,6 +78,11 @@ void run_realtime(const RealtimeOptions& o) {
       {"physics_steps", r.physics_steps},
       {"realtime_factor", r.wall_time > 0 ? r.sim_time / r.wall_time : 0},
       {"disconnects", r.disconnects},
+      {"devices", [&] {
+         nlohmann::json list = nlohmann::json::array();
+         for (const DeviceReport& d : r.devices) list.push_back(device_json(d));
+         return list;
+       }()},
       {"recording_dropped", r.recording_dropped},
       {"timing_us",
        {{"haptic_tick", histogram_json(r.tick_us)},
@@ -101,6 +119,13 @@ void run_realtime(const RealtimeOptions& o) {
                 o.rate_hz, 100 * r.deadline_miss_fraction, r.jitter_us_p99, r.tick_us.p99(),
                 (unsigned long long)r.physics_steps, r.physics_rate_hz, p.step.median(),
                 hash_hex(sim.state_hash()).c_str());
+  if (!o.quiet)
+    for (std::size_t i = 0; i < r.devices.size(); ++i) {
+      const DeviceReport& d = r.devices[i];
+      std::printf("  device %zu (%s): %llu poses accepted, %llu malformed, %llu connections, %llu drops\n", i,
+                  d.name.c_str(), (unsigned long long)d.counters.samples, (unsigned long long)d.counters.malformed,
+                  (unsigned long long)d.counters.connections, (unsigned long long)d.counters.drops);
+    }
 }
 
 }  // namespace trocar::cli

@@ -59,6 +59,13 @@ TEST_F(RealtimeCli, ReportHasTheHapticSectionAndTheRecordingReplays) {
   EXPECT_GT(h["physics_steps"].get<int>(), 100);
   for (const char* m : {"haptic_tick", "broad_phase", "narrow_phase", "response", "deformation", "step"})
     EXPECT_GT(h["timing_us"][m]["count"].get<int>(), 0) << m;
+  // The scripted device: one connection, never dropped, nothing malformed, a pose every tick.
+  ASSERT_EQ(h["devices"].size(), 1u);
+  EXPECT_EQ(h["devices"][0]["name"], "scripted");
+  EXPECT_EQ(h["devices"][0]["poses_accepted"], h["ticks"]);
+  EXPECT_EQ(h["devices"][0]["connections"], 1);
+  EXPECT_EQ(h["devices"][0]["drops"], 0);
+  EXPECT_EQ(h["devices"][0]["malformed"], 0);
   const RunResult rep = run("replay " + path("s.trec"));
   EXPECT_EQ(rep.exit_code, 0) << rep.output;
   EXPECT_NE(rep.output.find("identical"), std::string::npos) << rep.output;

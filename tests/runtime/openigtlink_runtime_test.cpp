@@ -111,7 +111,7 @@ TEST(OpenIgtLinkRuntime, ClientPressesFeelsForceDropsAndReconnects) {
   EXPECT_LT(after.first_force, 0.05) << "after a reconnect the force starts from zero (safe start)";
   EXPECT_GT(after.max_force, 0.2) << "and comes back once the hand backed off and pressed again";
   EXPECT_GE(report.disconnects, 1u);
-  EXPECT_EQ(report.devices[0].connections, 2u);
+  EXPECT_EQ(report.devices[0].counters.connections, 2u);
   EXPECT_GT(report.rate_hz, 700);  // the loop kept its rate through the drop (loose: CI machines are busy)
   bool warned = false;
   for (const std::string& w : report.warnings) warned |= w.find("dropped") != std::string::npos;

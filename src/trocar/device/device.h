@@ -56,6 +56,7 @@ struct DeviceCounters {
   std::uint64_t samples = 0;      ///< samples accepted
   std::uint64_t malformed = 0;    ///< messages dropped as malformed (size, type, CRC, NaN …)
   std::uint64_t connections = 0;  ///< connections accepted so far (a reconnect adds one)
+  std::uint64_t drops = 0;        ///< connections lost: the peer left or reset, or was cut off
   std::uint64_t forces_sent = 0;  ///< force messages sent
 };
 

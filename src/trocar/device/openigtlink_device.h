@@ -4,23 +4,21 @@
 /// with a real Touch/Phantom (PLUS's OpenIGTLink output), or 3D Slicer's OpenIGTLinkIF module,
 /// drives trocar.
 ///
-/// Messages in (one client at a time; a new client may connect after the last one left):
-///  - TRANSFORM (48-byte body): a 4×4 homogeneous matrix; rotation part orthonormal (within
-///    1e-3), translation in **millimetres** (the OpenIGTLink / PLUS / Slicer convention),
-///    converted to metres.
-///  - POSITION (28-byte body): position in millimetres and the full quaternion (x, y, z, w),
-///    normalised on receipt (position-only and 3-element-quaternion bodies are malformed).
-///  - Anything else, a body whose CRC or size is wrong, NaN/inf values, a non-orthonormal
-///    rotation, a zero quaternion: dropped and counted (`DeviceCounters::malformed`); the
-///    connection stays up. A header announcing a body over 1 MiB is garbage: counted, and the
-///    connection is closed (the client may reconnect).
-///  Protocol version 1 (what libopenigtlink 1.11 speaks): a version-2 message's body holds an
-///  extended header and metadata, has another size, and is dropped as malformed.
+/// One client at a time, and the newest wins: a connection that arrives while a client is
+/// connected replaces it (the old one is closed and counted as a drop). A restarted Slicer or
+/// PLUS relay therefore always comes back, even when its old connection died without a word.
+///
+/// Messages in: TRANSFORM and POSITION, as openigtlink_parser.h describes (millimetres in,
+/// metres out). A malformed message is dropped and counted (`DeviceCounters::malformed`); the
+/// connection stays up. A header announcing a body over 1 MiB is garbage: counted, and the
+/// connection is closed (the client may reconnect).
 /// Message out: after each accepted pose, a SENSOR message named `device_name` with 3 values,
-/// the force (N) last given to write(), in the device frame, unit newton.
+/// the force (N) last given to write(), in the device frame, unit newton. A client that does not
+/// read them is not waited for: a reply that finds the previous one still unsent is skipped.
 /// Status: disconnected without a client; stale when no pose came for `stale_after_s`, or the
 /// current client has sent none yet (read() then gives the previous client's last pose).
 #include <atomic>
+#include <memory>
 #include <string>
 #include <thread>
 
@@ -54,18 +52,16 @@ class OpenIgtLinkDevice final : public Device {
   int port() const { return bound_port_; }  ///< the port bound by open()
 
  private:
-  void serve();
+  struct Sockets;  // the listener, the client and the parser: the socket thread's own
   OpenIgtLinkSettings settings_;
   DeviceSpecs specs_;
   Seqlock<DeviceInput> sample_;
   Seqlock<DeviceOutput> force_;
   std::atomic<bool> connected_{false};
   std::atomic<std::uint64_t> connect_sequence_{0};  // samples before the current client came
-  std::atomic<bool> stop_{false};
-  std::atomic<std::uint64_t> samples_{0}, malformed_{0}, connections_{0}, forces_sent_{0};
+  std::atomic<std::uint64_t> samples_{0}, malformed_{0}, connections_{0}, drops_{0}, forces_sent_{0};
   int bound_port_ = 0;
-  struct Sockets;
-  Sockets* sockets_ = nullptr;
+  std::unique_ptr<Sockets> sockets_;
   std::thread thread_;
 };
 

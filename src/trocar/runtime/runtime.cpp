@@ -212,7 +212,7 @@ RuntimeReport Runtime::run() {
   for (const std::string& w : s.haptic_warnings) r.warnings.push_back(w);
   for (const std::string& w : s.physics_warnings) r.warnings.push_back(w);
   for (std::size_t i = 0; i < haptic_.size(); ++i) {
-    r.devices.push_back(channels_[i].device->counters());
+    r.devices.push_back({channels_[i].device->specs().name, channels_[i].device->counters(), haptic_[i].disconnects()});
     r.disconnects += haptic_[i].disconnects();
     if (haptic_[i].disconnects() > 0)
       r.warnings.push_back("instrument " + std::to_string(i) + ": device " + channels_[i].device->specs().name +

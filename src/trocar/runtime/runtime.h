@@ -61,6 +61,13 @@ struct RuntimeChannel {
   std::string where;               ///< e.g. "scene.json: instruments[0].device" (for errors)
 };
 
+/// One channel's device in the report: its counters at the end of the run.
+struct DeviceReport {
+  std::string name;              ///< DeviceSpecs::name, e.g. "openigtlink :18944"
+  DeviceCounters counters;       ///< poses accepted, malformed, connections, drops, forces sent
+  std::uint64_t disconnects = 0; ///< connected → not, as the haptic loop saw it
+};
+
 /// What a run measured (the report's `haptic` section, docs/runtime.md "Performance monitor").
 struct RuntimeReport {
   std::uint64_t ticks = 0;                 ///< haptic ticks run
@@ -76,7 +83,7 @@ struct RuntimeReport {
   double wall_time = 0;                    ///< s
   PhysicsTimings physics;                  ///< per-module timing
   std::vector<std::string> warnings;       ///< scheduling refused, disconnects, dropped records
-  std::vector<DeviceCounters> devices;     ///< per channel
+  std::vector<DeviceReport> devices;       ///< per channel
   std::uint64_t disconnects = 0;           ///< device drops seen by the haptic loop
   std::uint64_t recording_dropped = 0;     ///< records lost to full rings
 };

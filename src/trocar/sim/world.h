@@ -7,7 +7,7 @@
 #include "trocar/core/types.h"
 #include "trocar/instrument/instrument.h"
 #include "trocar/mesh/tri_mesh.h"
-#include "trocar/sim/motion.h"
+#include "trocar/core/motion.h"
 #include "trocar/tissue/energy.h"
 #include "trocar/tissue/integrator.h"
 #include "trocar/tissue/material.h"

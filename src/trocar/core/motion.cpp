@@ -1,4 +1,4 @@
-#include "trocar/sim/motion.h"
+#include "trocar/core/motion.h"
 
 #include <algorithm>
 
