@@ -64,6 +64,42 @@ bool raw_box_outside(const Vec3& a, const Vec3& b, const Vec3& c, const Real (&g
 #endif
 }
 
+// The portable opening of triangles [begin, end) (in cluster order: ordered[o] its vertices,
+// order[o] its id) of one object: those whose raw box touches [g_lo, g_hi] and whose inflated
+// box clipped to `clip` is not empty get their box and extents written at out[opened…] and
+// set_id(opened, triangle) called; returns the new end. What open_cluster_avx512 does eight at
+// a time.
+template <class SetId>
+std::uint32_t open_cluster_portable(const Vec3* p, const Triangle* ordered, const std::uint32_t* order,
+                                    std::uint32_t begin, std::uint32_t end, const Aabb& clip,
+                                    const Real (&g_lo)[3], const Real (&g_hi)[3],
+                                    const ohc_detail::OpenedArrays& out, std::uint32_t opened, SetId set_id) {
+  for (std::uint32_t o = begin; o < end; ++o) {
+    const Triangle& tri = ordered[o];
+    const Vec3& a = p[tri[0]];
+    const Vec3& b = p[tri[1]];
+    const Vec3& cc = p[tri[2]];
+    // Quick rejection on the raw (uninflated) box against the grown region, which holds
+    // every triangle margin: most triangles of an opened cluster stop here.
+    if (raw_box_outside(a, b, cc, g_lo, g_hi)) continue;
+    const Aabb box = triangle_box(a, b, cc).intersection(clip);
+    if (box.is_empty()) continue;
+    for (int axis = 0; axis < 3; ++axis) {
+      out.lo[axis][opened] = box.min[axis];
+      out.hi[axis][opened] = box.max[axis];
+    }
+    Real d_lo[ohc_detail::kDopAxes];
+    Real d_hi[ohc_detail::kDopAxes];
+    ohc_detail::dop_extents(a, b, cc, d_lo, d_hi);
+    for (int d = 0; d < ohc_detail::kDopAxes; ++d) {
+      out.dop_lo[d][opened] = d_lo[d];
+      out.dop_hi[d][opened] = d_hi[d];
+    }
+    set_id(opened++, order[o]);
+  }
+  return opened;
+}
+
 // Up to this many (cluster of one object, cluster of the other) pairs the cluster cascade tests
 // them all instead of sorting the clusters for a sweep.
 constexpr std::size_t kAllPairsClusters = 1024;
@@ -384,8 +420,6 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
   stats_.candidate_pairs = out.size();
 }
 
-bool OhcBroadPhase::by_cluster() const { return settings_.cascade && settings_.cluster_cascade; }
-
 void OhcBroadPhase::refit_objects(std::span<const CollisionObject> objects) {
   const auto n = static_cast<std::uint32_t>(objects.size());
   boxes_.resize(n);
@@ -449,6 +483,7 @@ std::uint32_t OhcBroadPhase::open_clusters(std::span<const CollisionObject> obje
   const ohc_detail::OpenedArrays opened_arrays = reserve_opened(objects);
   // Eight triangles at a time where the CPU has AVX-512 (the same triangles and boxes).
   const bool avx512 = settings_.simd && cpu_has_avx512();
+  const bool cluster_level = by_cluster();
   std::uint32_t opened = 0;  // triangles that passed
   for (std::uint32_t i = 0; i < n; ++i) {
     const Aabb& region = regions_[i];
@@ -462,12 +497,12 @@ std::uint32_t OhcBroadPhase::open_clusters(std::span<const CollisionObject> obje
     const auto triangle_count = static_cast<std::uint32_t>(object.triangles.size());
     // With the cluster level only the clusters it touched can open, in ascending order as a
     // scan over all of them would visit them.
-    if (by_cluster()) std::sort(c.touched.begin(), c.touched.end());
-    const std::size_t to_visit = by_cluster() ? c.touched.size() : c.boxes.size();
+    if (cluster_level) std::sort(c.touched.begin(), c.touched.end());
+    const std::size_t to_visit = cluster_level ? c.touched.size() : c.boxes.size();
     for (std::size_t v = 0; v < to_visit; ++v) {
-      const std::uint32_t k = by_cluster() ? c.touched[v] : static_cast<std::uint32_t>(v);
+      const std::uint32_t k = cluster_level ? c.touched[v] : static_cast<std::uint32_t>(v);
       const std::uint32_t first_prim = opened;
-      if (by_cluster()) {
+      if (cluster_level) {
         c.prim_first[k] = first_prim;
         c.prim_count[k] = 0;
       }
@@ -477,7 +512,7 @@ std::uint32_t OhcBroadPhase::open_clusters(std::span<const CollisionObject> obje
       // triangle boxes lies in both (see cluster_cascade()), so clipping to it loses no pair.
       Aabb clip = region;
       Aabb clip_grown = grown;
-      if (by_cluster()) {
+      if (cluster_level) {
         clip = region.intersection(c.regions[k]);
         if (clip.is_empty()) continue;
         clip_grown = clip.inflated(margins_[i]);
@@ -493,9 +528,10 @@ std::uint32_t OhcBroadPhase::open_clusters(std::span<const CollisionObject> obje
         opened = ohc_detail::open_cluster_avx512(p, c.ordered.data() + begin, c.order.data() + begin, end - begin, i,
                                                  c_lo, c_hi, g_lo, g_hi, opened_arrays, opened);
       } else {
-        opened = open_cluster(p, c, begin, end, i, clip, g_lo, g_hi, opened_arrays, opened);
+        opened = open_cluster_portable(p, c.ordered.data(), c.order.data(), begin, end, clip, g_lo, g_hi, opened_arrays,
+                                       opened, [&](std::uint32_t at, std::uint32_t t) { opened_ids_[at] = {i, t}; });
       }
-      if (by_cluster()) c.prim_count[k] = opened - first_prim;
+      if (cluster_level) c.prim_count[k] = opened - first_prim;
     }
   }
   return opened;
@@ -527,36 +563,6 @@ ohc_detail::OpenedArrays OhcBroadPhase::reserve_opened(std::span<const Collision
   }
   arrays.ids = reinterpret_cast<std::uint64_t*>(opened_ids_.data());
   return arrays;
-}
-
-std::uint32_t OhcBroadPhase::open_cluster(const Vec3* p, const ObjectClusters& c, std::uint32_t begin,
-                                          std::uint32_t end, std::uint32_t object, const Aabb& clip,
-                                          const Real (&g_lo)[3], const Real (&g_hi)[3],
-                                          const ohc_detail::OpenedArrays& out, std::uint32_t opened) {
-  for (std::uint32_t o = begin; o < end; ++o) {
-    const Triangle& tri = c.ordered[o];
-    const Vec3& a = p[tri[0]];
-    const Vec3& b = p[tri[1]];
-    const Vec3& cc = p[tri[2]];
-    // Quick rejection on the raw (uninflated) box against the grown region, which holds
-    // every triangle margin: most triangles of an opened cluster stop here.
-    if (raw_box_outside(a, b, cc, g_lo, g_hi)) continue;
-    const Aabb box = triangle_box(a, b, cc).intersection(clip);
-    if (box.is_empty()) continue;
-    for (int axis = 0; axis < 3; ++axis) {
-      out.lo[axis][opened] = box.min[axis];
-      out.hi[axis][opened] = box.max[axis];
-    }
-    Real d_lo[ohc_detail::kDopAxes];
-    Real d_hi[ohc_detail::kDopAxes];
-    ohc_detail::dop_extents(a, b, cc, d_lo, d_hi);
-    for (int d = 0; d < ohc_detail::kDopAxes; ++d) {
-      out.dop_lo[d][opened] = d_lo[d];
-      out.dop_hi[d][opened] = d_hi[d];
-    }
-    opened_ids_[opened++] = {object, c.order[o]};
-  }
-  return opened;
 }
 
 // The cluster-pair path when the pairs are all known and their box tests are few enough to

@@ -200,7 +200,7 @@ class OhcBroadPhase final : public BroadPhase {
 
   // find_pairs' phases, in order.
   /// The cascade's cluster level is on (settings).
-  bool by_cluster() const;
+  bool by_cluster() const { return settings_.cascade && settings_.cluster_cascade; }
   /// Clusters (re)built where an object changed, group boxes, object boxes and margin bounds;
   /// last frame's cluster regions cleared.
   void refit_objects(std::span<const CollisionObject> objects);
@@ -212,11 +212,6 @@ class OhcBroadPhase final : public BroadPhase {
   std::uint32_t open_clusters(std::span<const CollisionObject> objects);
   /// The opened arrays, grown to hold every triangle of the clusters that may open.
   ohc_detail::OpenedArrays reserve_opened(std::span<const CollisionObject> objects);
-  /// The portable opening of triangles [begin, end) of a cluster (in cluster order) of object
-  /// `object`, written from `opened` on; returns the new end.
-  std::uint32_t open_cluster(const Vec3* positions, const ObjectClusters& c, std::uint32_t begin, std::uint32_t end,
-                             std::uint32_t object, const Aabb& clip, const Real (&grown_lo)[3],
-                             const Real (&grown_hi)[3], const ohc_detail::OpenedArrays& out, std::uint32_t opened);
   /// The cluster pairs are all known and their box tests few enough to skip the cell hash.
   bool cluster_pairs_suffice(std::uint32_t opened) const;
   /// The opened triangles as the hash's primitives; returns their root mean square edge length.
