@@ -1,4 +1,4 @@
-// The narrow phase's vector exact tests (narrow_detail::exact4_avx2, exact8_avx512) against
+// The narrow phase's vector exact test (narrow_detail::exact4_avx2) against
 // intersect_triangles, bit for bit, on every lane it answers: random crossing pairs at all
 // scales and offsets, touching and near-parallel ones, mixed with lanes it must leave alone.
 #include <gtest/gtest.h>
@@ -91,12 +91,6 @@ TEST(ExactBatch, FourLanesMatchIntersectTrianglesBitForBit) {
   if (!cpu_has_avx2()) GTEST_SKIP() << "no AVX2 here (or TROCAR_SIMD=off)";
   expect_kernel_matches<4>(
       [](const Vec3* const (&c)[4][6], TriTriResult (&r)[4]) { return narrow_detail::exact4_avx2(c, r); });
-}
-
-TEST(ExactBatch, EightLanesMatchIntersectTrianglesBitForBit) {
-  if (!cpu_has_avx512()) GTEST_SKIP() << "no AVX-512 here (or TROCAR_SIMD=off)";
-  expect_kernel_matches<8>(
-      [](const Vec3* const (&c)[8][6], TriTriResult (&r)[8]) { return narrow_detail::exact8_avx512(c, r); });
 }
 
 }  // namespace

@@ -181,31 +181,20 @@ void exact_candidate(const CollisionObject& oa, const CollisionObject& ob, const
 
 namespace {
 
-// The candidates the vector rejection tests keep, up to eight (AVX-512) or four (AVX2), for the
-// vector exact test (those it leaves go through intersect_triangles one by one). The same
-// contacts as one exact_candidate() each.
+// The candidates the vector rejection tests keep, four at a time, for the vector exact test
+// (those it leaves go through intersect_triangles one by one). The same contacts as one
+// exact_candidate() each.
 class ExactBatch {
  public:
-  explicit ExactBatch(bool avx512) : capacity_(avx512 ? 8 : 4) {}
+  static constexpr int kLanes = 4;
 
   void add(std::span<const CollisionObject> objects, const CandidatePair& pair, std::vector<Contact>& out) {
     pairs_[count_++] = &pair;
-    if (count_ == capacity_) flush(objects, out);
+    if (count_ == kLanes) flush(objects, out);
   }
 
   void flush(std::span<const CollisionObject> objects, std::vector<Contact>& out) {
     if (count_ == 0) return;
-    if (capacity_ == 8) {
-      run<8>(objects, out, [](const Vec3* const (&c)[8][6], TriTriResult (&r)[8]) { return exact8_avx512(c, r); });
-    } else {
-      run<4>(objects, out, [](const Vec3* const (&c)[4][6], TriTriResult (&r)[4]) { return exact4_avx2(c, r); });
-    }
-    count_ = 0;
-  }
-
- private:
-  template <int kLanes, class Kernel>
-  void run(std::span<const CollisionObject> objects, std::vector<Contact>& out, Kernel kernel) {
     const Vec3* corners[kLanes][6];
     for (int k = 0; k < kLanes; ++k) {
       const CandidatePair& pair = *pairs_[k < count_ ? k : 0];  // spare lanes repeat the first
@@ -219,7 +208,7 @@ class ExactBatch {
       }
     }
     TriTriResult r[kLanes];
-    const int done = kernel(corners, r);
+    const int done = exact4_avx2(corners, r);
     for (int k = 0; k < count_; ++k) {
       const CandidatePair& pair = *pairs_[k];
       const CollisionObject& oa = objects[pair.object_a];
@@ -230,11 +219,12 @@ class ExactBatch {
         exact_candidate(oa, ob, pair, out);
       }
     }
+    count_ = 0;
   }
 
-  const CandidatePair* pairs_[8] = {};
+ private:
+  const CandidatePair* pairs_[kLanes] = {};
   int count_ = 0;
-  int capacity_;
 };
 
 }  // namespace
@@ -291,33 +281,23 @@ void narrow_phase(std::span<const CollisionObject> objects, std::span<const Cand
   using namespace narrow_detail;
   out.clear();
   const bool simd = allow_simd && cpu_has_avx2_fma();
-  const bool avx512 = simd && cpu_has_avx512();
   ScalarStage scalar;
   PlaneStage s;
-  ExactBatch batch(avx512);
-  // How many candidates from k on share pairs[k]'s object pair (counted up to 8).
-  const auto same_objects = [&](std::size_t k) {
-    std::size_t run = 1;
-    while (run < 8 && k + run < pairs.size() && pairs[k + run].object_a == pairs[k].object_a &&
-           pairs[k + run].object_b == pairs[k].object_b)
-      ++run;
-    return run;
+  ExactBatch batch;
+  // Whether the four candidates from k on share pairs[k]'s object pair.
+  const auto four_same_objects = [&](std::size_t k) {
+    if (k + 4 > pairs.size()) return false;
+    for (std::size_t m = k + 1; m < k + 4; ++m) {
+      if (pairs[m].object_a != pairs[k].object_a || pairs[m].object_b != pairs[k].object_b) return false;
+    }
+    return true;
   };
   for (std::size_t k = 0; k < pairs.size();) {
     const CandidatePair& pair = pairs[k];
     const CollisionObject& oa = objects[pair.object_a];
     const CollisionObject& ob = objects[pair.object_b];
-    // Eight (AVX-512) or four (AVX2) candidates of one object pair at a time; the rest one by one.
-    const std::size_t run = simd ? same_objects(k) : 1;
-    if (run == 8 && avx512) {
-      const int keep = reject8_avx512(oa, ob, &pairs[k]);
-      for (int lane = 0; lane < 8; ++lane) {
-        if (keep >> lane & 1) batch.add(objects, pairs[k + static_cast<std::size_t>(lane)], out);
-      }
-      k += 8;
-      continue;
-    }
-    if (run >= 4) {
+    // Four candidates of one object pair at a time (AVX2); the rest one by one.
+    if (simd && four_same_objects(k)) {
       const int keep = reject4_avx2(oa, ob, &pairs[k]);
       for (int lane = 0; lane < 4; ++lane) {
         if (keep >> lane & 1) batch.add(objects, pairs[k + static_cast<std::size_t>(lane)], out);

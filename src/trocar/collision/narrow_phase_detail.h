@@ -22,16 +22,10 @@ void append_contact(const CollisionObject& oa, const CollisionObject& ob, const 
 /// the mask (bit k: candidate k) of those no test rejects. Requires cpu_has_avx2_fma().
 int reject4_avx2(const CollisionObject& oa, const CollisionObject& ob, const CandidatePair* pairs);
 
-/// The same for eight candidates of the same object pair (AVX-512); returns an 8-bit mask.
-/// Requires cpu_has_avx512().
-int reject8_avx512(const CollisionObject& oa, const CollisionObject& ob, const CandidatePair* pairs);
-
 /// intersect_triangles on four pairs at once (c[k]: a0, a1, a2, b0, b1, b2 of pair k), bit for
 /// bit, for the common case (two proper triangles crossing at an angle, no vertex within the
 /// tolerance of the other plane); returns the mask of the lanes it answered in r, the others are
 /// left to intersect_triangles. Requires cpu_has_avx2().
 int exact4_avx2(const Vec3* const (&c)[4][6], TriTriResult (&r)[4]);
-/// The same on eight pairs (AVX-512). Requires cpu_has_avx512().
-int exact8_avx512(const Vec3* const (&c)[8][6], TriTriResult (&r)[8]);
 
 }  // namespace trocar::narrow_detail

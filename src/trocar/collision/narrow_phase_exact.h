@@ -8,8 +8,8 @@
 /// formula; divisions, not reciprocals), and the including file is compiled without contraction
 /// (no FMA may be formed): IEEE arithmetic is then the same in a lane as in a scalar register.
 /// Branches become blends (all sides are computed; the unused ones may be inf or NaN and are
-/// dropped). S is the vector width's table (narrow_phase_lanes_avx2.h, _avx512.h), and this
-/// header is included after their target pragma, so everything here is compiled for it;
+/// dropped). S is the vector width's table (narrow_phase_lanes_avx2.h), and this
+/// header is included after its target pragma, so everything here is compiled for it;
 /// exact_batch_test.cpp checks the results against intersect_triangles bit for bit.
 #include <limits>
 

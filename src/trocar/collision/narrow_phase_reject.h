@@ -1,10 +1,9 @@
 #pragma once
-// The narrow phase's rejection tests on kLanes candidates at once, written once over a vector
-// width (internal; included only by narrow_phase_avx2.cpp and narrow_phase_avx512.cpp inside
-// their target regions). Lane k holds candidate k: the tests of the portable path
-// (narrow_phase.cpp) run on every lane — A's plane against B's corners, B's plane against A's
-// corners (each with the conservative 1e-9·L margin), then the interval test on the line
-// nA × nB (Möller, "A Fast Triangle-Triangle Intersection Test", JGT 1997, made conservative as
+// The narrow phase's rejection tests on kLanes candidates at once, written over a vector width
+// (internal; included only by narrow_phase_avx2.cpp inside its target region). Lane k holds
+// candidate k: the tests of the portable path (narrow_phase.cpp) run on every lane — A's plane
+// against B's corners, B's plane against A's corners (each with the conservative 1e-9·L
+// margin), then the interval test on the line nA × nB (Möller, "A Fast Triangle-Triangle Intersection Test", JGT 1997, made conservative as
 // there). FMA and one reciprocal per edge round differently from the portable path by a few ulp,
 // which the margins (orders of magnitude wider) absorb: both paths reject only pairs the exact
 // test rejects, so the contacts are the same.

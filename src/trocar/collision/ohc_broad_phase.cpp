@@ -64,6 +64,42 @@ bool raw_box_outside(const Vec3& a, const Vec3& b, const Vec3& c, const Real (&g
 #endif
 }
 
+// The portable opening of triangles [begin, end) (in cluster order: ordered[o] its vertices,
+// order[o] its id) of one object: those whose raw box touches [g_lo, g_hi] and whose inflated
+// box clipped to `clip` is not empty get their box and extents written at out[opened…] and
+// set_id(opened, triangle) called; returns the new end. What open_cluster_avx512 does eight at
+// a time.
+template <class SetId>
+std::uint32_t open_cluster_portable(const Vec3* p, const Triangle* ordered, const std::uint32_t* order,
+                                    std::uint32_t begin, std::uint32_t end, const Aabb& clip,
+                                    const Real (&g_lo)[3], const Real (&g_hi)[3],
+                                    const ohc_detail::OpenedArrays& out, std::uint32_t opened, SetId set_id) {
+  for (std::uint32_t o = begin; o < end; ++o) {
+    const Triangle& tri = ordered[o];
+    const Vec3& a = p[tri[0]];
+    const Vec3& b = p[tri[1]];
+    const Vec3& cc = p[tri[2]];
+    // Quick rejection on the raw (uninflated) box against the grown region, which holds
+    // every triangle margin: most triangles of an opened cluster stop here.
+    if (raw_box_outside(a, b, cc, g_lo, g_hi)) continue;
+    const Aabb box = triangle_box(a, b, cc).intersection(clip);
+    if (box.is_empty()) continue;
+    for (int axis = 0; axis < 3; ++axis) {
+      out.lo[axis][opened] = box.min[axis];
+      out.hi[axis][opened] = box.max[axis];
+    }
+    Real d_lo[ohc_detail::kDopAxes];
+    Real d_hi[ohc_detail::kDopAxes];
+    ohc_detail::dop_extents(a, b, cc, d_lo, d_hi);
+    for (int d = 0; d < ohc_detail::kDopAxes; ++d) {
+      out.dop_lo[d][opened] = d_lo[d];
+      out.dop_hi[d][opened] = d_hi[d];
+    }
+    set_id(opened++, order[o]);
+  }
+  return opened;
+}
+
 // Up to this many (cluster of one object, cluster of the other) pairs the cluster cascade tests
 // them all instead of sorting the clusters for a sweep.
 constexpr std::size_t kAllPairsClusters = 1024;
@@ -77,6 +113,32 @@ std::uint64_t spread_bits(std::uint64_t x) {
   x = (x | x << 4) & 0x10c30c30c30c30c3ULL;
   x = (x | x << 2) & 0x1249249249249249ULL;
   return x;
+}
+
+// Inclusive prefix sum of start[0, count) in place (start[s] becomes the end of slot s); returns
+// the total. count is a power of two ≥ 16.
+std::uint32_t inclusive_prefix_sum(std::uint32_t* start, std::size_t count) {
+#if defined(__SSE2__)
+  // Four slots at a time: a prefix sum within the register by two shifted adds, plus the running
+  // total; the scalar loop is one long chain of dependent adds.
+  __m128i carry = _mm_setzero_si128();
+  for (std::size_t s = 0; s < count; s += 4) {
+    __m128i x = _mm_loadu_si128(reinterpret_cast<const __m128i*>(start + s));
+    x = _mm_add_epi32(x, _mm_slli_si128(x, 4));
+    x = _mm_add_epi32(x, _mm_slli_si128(x, 8));
+    x = _mm_add_epi32(x, carry);
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(start + s), x);
+    carry = _mm_shuffle_epi32(x, _MM_SHUFFLE(3, 3, 3, 3));
+  }
+  return start[count - 1];
+#else
+  std::uint32_t running = 0;
+  for (std::size_t s = 0; s < count; ++s) {
+    running += start[s];
+    start[s] = running;
+  }
+  return running;
+#endif
 }
 
 }  // namespace
@@ -327,13 +389,39 @@ void OhcBroadPhase::cell_range(Primitive& prim, Real inv_h) {
 void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::vector<CandidatePair>& out) {
   out.clear();
   stats_ = {};
-  const auto n = static_cast<std::uint32_t>(objects.size());
   primitives_.clear();
   cluster_pair_list_.clear();
   sweeps_complete_ = true;
-  if (n < 2) return;
+  if (objects.size() < 2) return;
+  // 1. Object boxes and the tested, overlapping pairs (and, with the cluster level, their
+  //    overlapping cluster pairs).
+  refit_objects(objects);
+  find_overlapping_objects(objects);
+  if (stats_.objects_overlapping == 0) return;
+  // 2. The cascade: the triangles of each object whose box touches its region.
+  const std::uint32_t opened = open_clusters(objects);
+  stats_.primitives_hashed = opened;
+  if (opened == 0) return;
+  if (cluster_pairs_suffice(opened)) {
+    stats_.cluster_pair_path = true;
+    emit_cluster_pairs(objects, out, opened);
+    stats_.candidate_pairs = out.size();
+    return;
+  }
+  // 3.–5. The cell hash over the opened triangles.
+  const Real rms_edge = copy_opened_to_primitives(objects, opened);
+  CellBlock block;
+  const std::uint64_t entry_count = assign_cells(objects.size(), rms_edge, block);
+  const std::uint32_t mask = sort_entries_by_slot(entry_count);
+  emit_slot_pairs(objects, out, entry_count, mask);
+  std::uint64_t cells = 1;
+  for (int k = 0; k < 3; ++k) cells *= static_cast<std::uint64_t>(static_cast<std::int64_t>(block.hi[k]) - block.lo[k] + 1);
+  stats_.empty_cells = cells - stats_.cells_touched;
+  stats_.candidate_pairs = out.size();
+}
 
-  // 1. Object boxes and the tested, overlapping pairs.
+void OhcBroadPhase::refit_objects(std::span<const CollisionObject> objects) {
+  const auto n = static_cast<std::uint32_t>(objects.size());
   boxes_.resize(n);
   regions_.assign(n, Aabb{});
   tested_.assign(static_cast<std::size_t>(n) * n, 0);
@@ -346,9 +434,8 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
       build_clusters(c, object);  // first frame or another object: allocates
     }
     // Without the cluster level every cluster may open: all their boxes now.
-    boxes_[i] = refit_groups(c, object, settings_.simd, !(settings_.cascade && settings_.cluster_cascade));
+    boxes_[i] = refit_groups(c, object, settings_.simd, !by_cluster());
   }
-  const bool by_cluster = settings_.cascade && settings_.cluster_cascade;
   margins_.resize(n);
   std::size_t all_clusters = 0;
   for (std::uint32_t i = 0; i < n; ++i) {
@@ -360,9 +447,13 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
     ObjectClusters& c = clusters_[i];
     for (const std::uint32_t k : c.touched) c.regions[k] = Aabb{};
     c.touched.clear();
-    if (by_cluster) all_clusters += c.boxes.size();
+    if (by_cluster()) all_clusters += c.boxes.size();
   }
-  if (by_cluster) sweep_.reserve(all_clusters);  // a pair sweeps at most every cluster
+  if (by_cluster()) sweep_.reserve(all_clusters);  // a pair sweeps at most every cluster
+}
+
+void OhcBroadPhase::find_overlapping_objects(std::span<const CollisionObject> objects) {
+  const auto n = static_cast<std::uint32_t>(objects.size());
   for (std::uint32_t i = 0; i < n; ++i) {
     if (boxes_[i].is_empty()) continue;
     for (std::uint32_t j = i + 1; j < n; ++j) {
@@ -375,49 +466,25 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
         const Aabb overlap = boxes_[i].intersection(boxes_[j]);
         regions_[i].expand(overlap);
         regions_[j].expand(overlap);
-        if (by_cluster) cluster_cascade(objects, i, j);
+        if (by_cluster()) cluster_cascade(objects, i, j);
       } else {
         regions_[i] = boxes_[i];
         regions_[j] = boxes_[j];
       }
     }
   }
-  if (stats_.objects_overlapping == 0) return;
+}
 
-  // 2. The cascade: per object, the triangles whose (inflated) box touches its region, with
-  //    their boxes clipped to it. Correctness: if triangles s of object i and t of object j
-  //    intersect, a common point x lies in both inflated triangle boxes and so in both object
-  //    boxes, hence in box_i ∩ box_j ⊆ region_i ∩ region_j: both pass and their clipped boxes
-  //    still share x.
-  //    The boxes go to one array per axis and side (what the box tests read four or eight at a
-  //    time), sized for every triangle of the clusters that may open.
-  std::size_t bound = 0;
-  for (std::uint32_t i = 0; i < n; ++i) {
-    if (regions_[i].is_empty()) continue;
-    bound += by_cluster ? kClusterTriangles * clusters_[i].touched.size() : objects[i].triangles.size();
-  }
-  if (opened_stride_ < bound + 8) {
-    opened_stride_ = bound + 8;
-    opened_boxes_.assign((6 + 2 * ohc_detail::kDopAxes) * opened_stride_, 0.0);
-    opened_ids_.resize(opened_stride_);
-  }
-  Real* const box_lo[3] = {opened_boxes_.data(), opened_boxes_.data() + opened_stride_,
-                           opened_boxes_.data() + 2 * opened_stride_};
-  Real* const box_hi[3] = {box_lo[2] + opened_stride_, box_lo[2] + 2 * opened_stride_, box_lo[2] + 3 * opened_stride_};
-  std::uint32_t opened = 0;  // triangles that passed
+// Correctness of the cascade: if triangles s of object i and t of object j intersect, a common
+// point x lies in both inflated triangle boxes and so in both object boxes, hence in
+// box_i ∩ box_j ⊆ region_i ∩ region_j: both pass and their clipped boxes still share x.
+std::uint32_t OhcBroadPhase::open_clusters(std::span<const CollisionObject> objects) {
+  const auto n = static_cast<std::uint32_t>(objects.size());
+  const ohc_detail::OpenedArrays opened_arrays = reserve_opened(objects);
   // Eight triangles at a time where the CPU has AVX-512 (the same triangles and boxes).
   const bool avx512 = settings_.simd && cpu_has_avx512();
-  static_assert(sizeof(OpenedId) == 8 && offsetof(OpenedId, object) == 0, "the AVX-512 kernel writes ids as 64 bits");
-  ohc_detail::OpenedArrays opened_arrays = {{box_lo[0], box_lo[1], box_lo[2]},
-                                            {box_hi[0], box_hi[1], box_hi[2]},
-                                            {},
-                                            {},
-                                            reinterpret_cast<std::uint64_t*>(opened_ids_.data())};
-  for (int k = 0; k < ohc_detail::kDopAxes; ++k) {
-    const auto lower = static_cast<std::size_t>(6 + k);
-    opened_arrays.dop_lo[k] = opened_boxes_.data() + lower * opened_stride_;
-    opened_arrays.dop_hi[k] = opened_boxes_.data() + (lower + ohc_detail::kDopAxes) * opened_stride_;
-  }
+  const bool cluster_level = by_cluster();
+  std::uint32_t opened = 0;  // triangles that passed
   for (std::uint32_t i = 0; i < n; ++i) {
     const Aabb& region = regions_[i];
     if (region.is_empty()) continue;
@@ -430,12 +497,12 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
     const auto triangle_count = static_cast<std::uint32_t>(object.triangles.size());
     // With the cluster level only the clusters it touched can open, in ascending order as a
     // scan over all of them would visit them.
-    if (by_cluster) std::sort(c.touched.begin(), c.touched.end());
-    const std::size_t to_visit = by_cluster ? c.touched.size() : c.boxes.size();
+    if (cluster_level) std::sort(c.touched.begin(), c.touched.end());
+    const std::size_t to_visit = cluster_level ? c.touched.size() : c.boxes.size();
     for (std::size_t v = 0; v < to_visit; ++v) {
-      const std::uint32_t k = by_cluster ? c.touched[v] : static_cast<std::uint32_t>(v);
+      const std::uint32_t k = cluster_level ? c.touched[v] : static_cast<std::uint32_t>(v);
       const std::uint32_t first_prim = opened;
-      if (by_cluster) {
+      if (cluster_level) {
         c.prim_first[k] = first_prim;
         c.prim_count[k] = 0;
       }
@@ -445,7 +512,7 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
       // triangle boxes lies in both (see cluster_cascade()), so clipping to it loses no pair.
       Aabb clip = region;
       Aabb clip_grown = grown;
-      if (by_cluster) {
+      if (cluster_level) {
         clip = region.intersection(c.regions[k]);
         if (clip.is_empty()) continue;
         clip_grown = clip.inflated(margins_[i]);
@@ -453,63 +520,68 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
       ++stats_.clusters_opened;
       const Real g_lo[3] = {clip_grown.min.x(), clip_grown.min.y(), clip_grown.min.z()};
       const Real g_hi[3] = {clip_grown.max.x(), clip_grown.max.y(), clip_grown.max.z()};
+      const std::uint32_t begin = k * kClusterTriangles;
       const std::uint32_t end = std::min(triangle_count, (k + 1) * kClusterTriangles);
       if (avx512) {
         const Real c_lo[3] = {clip.min.x(), clip.min.y(), clip.min.z()};
         const Real c_hi[3] = {clip.max.x(), clip.max.y(), clip.max.z()};
-        const std::uint32_t o = k * kClusterTriangles;
-        opened = ohc_detail::open_cluster_avx512(p, c.ordered.data() + o, c.order.data() + o, end - o, i, c_lo, c_hi,
-                                                 g_lo, g_hi, opened_arrays, opened);
-        if (by_cluster) c.prim_count[k] = opened - first_prim;
-        continue;
+        opened = ohc_detail::open_cluster_avx512(p, c.ordered.data() + begin, c.order.data() + begin, end - begin, i,
+                                                 c_lo, c_hi, g_lo, g_hi, opened_arrays, opened);
+      } else {
+        opened = open_cluster_portable(p, c.ordered.data(), c.order.data(), begin, end, clip, g_lo, g_hi, opened_arrays,
+                                       opened, [&](std::uint32_t at, std::uint32_t t) { opened_ids_[at] = {i, t}; });
       }
-      for (std::uint32_t o = k * kClusterTriangles; o < end; ++o) {
-        const Triangle& tri = c.ordered[o];
-        const Vec3& a = p[tri[0]];
-        const Vec3& b = p[tri[1]];
-        const Vec3& cc = p[tri[2]];
-        // Quick rejection on the raw (uninflated) box against the grown region, which holds
-        // every triangle margin: most triangles of an opened cluster stop here.
-        if (raw_box_outside(a, b, cc, g_lo, g_hi)) continue;
-        const std::uint32_t t = c.order[o];
-        const Aabb box = triangle_box(a, b, cc).intersection(clip);
-        if (box.is_empty()) continue;
-        for (int axis = 0; axis < 3; ++axis) {
-          box_lo[axis][opened] = box.min[axis];
-          box_hi[axis][opened] = box.max[axis];
-        }
-        Real d_lo[ohc_detail::kDopAxes];
-        Real d_hi[ohc_detail::kDopAxes];
-        ohc_detail::dop_extents(a, b, cc, d_lo, d_hi);
-        for (int d = 0; d < ohc_detail::kDopAxes; ++d) {
-          opened_arrays.dop_lo[d][opened] = d_lo[d];
-          opened_arrays.dop_hi[d][opened] = d_hi[d];
-        }
-        opened_ids_[opened++] = {i, t};
-      }
-      if (by_cluster) c.prim_count[k] = opened - first_prim;
+      if (cluster_level) c.prim_count[k] = opened - first_prim;
     }
   }
-  stats_.primitives_hashed = opened;
-  if (opened == 0) return;
+  return opened;
+}
 
-  // The cluster-pair path when the pairs are all known and their box tests are few enough to
-  // stay O(primitives): no cells at all.
-  if (by_cluster && sweeps_complete_ && settings_.max_pair_tests_per_primitive > 0) {
-    Real tests = 0;
-    for (const ClusterPair& cp : cluster_pair_list_) {
-      tests += static_cast<Real>(clusters_[cp.i].prim_count[cp.cluster_i]) *
-               static_cast<Real>(clusters_[cp.j].prim_count[cp.cluster_j]);
-    }
-    if (tests <= settings_.max_pair_tests_per_primitive * static_cast<Real>(opened) + 1024.0) {
-      stats_.cluster_pair_path = true;
-      emit_cluster_pairs(objects, out, opened);
-      stats_.candidate_pairs = out.size();
-      return;
-    }
+// The boxes go to one array per axis and side (what the box tests read four or eight at a
+// time), sized for every triangle of the clusters that may open.
+ohc_detail::OpenedArrays OhcBroadPhase::reserve_opened(std::span<const CollisionObject> objects) {
+  std::size_t bound = 0;
+  for (std::uint32_t i = 0; i < objects.size(); ++i) {
+    if (regions_[i].is_empty()) continue;
+    bound += by_cluster() ? kClusterTriangles * clusters_[i].touched.size() : objects[i].triangles.size();
   }
+  if (opened_stride_ < bound + 8) {
+    opened_stride_ = bound + 8;
+    opened_boxes_.assign((6 + 2 * ohc_detail::kDopAxes) * opened_stride_, 0.0);
+    opened_ids_.resize(opened_stride_);
+  }
+  static_assert(sizeof(OpenedId) == 8 && offsetof(OpenedId, object) == 0, "the AVX-512 kernel writes ids as 64 bits");
+  ohc_detail::OpenedArrays arrays{};
+  for (int axis = 0; axis < 3; ++axis) {
+    arrays.lo[axis] = opened_boxes_.data() + static_cast<std::size_t>(axis) * opened_stride_;
+    arrays.hi[axis] = opened_boxes_.data() + static_cast<std::size_t>(3 + axis) * opened_stride_;
+  }
+  for (int k = 0; k < ohc_detail::kDopAxes; ++k) {
+    const auto lower = static_cast<std::size_t>(6 + k);
+    arrays.dop_lo[k] = opened_boxes_.data() + lower * opened_stride_;
+    arrays.dop_hi[k] = opened_boxes_.data() + (lower + ohc_detail::kDopAxes) * opened_stride_;
+  }
+  arrays.ids = reinterpret_cast<std::uint64_t*>(opened_ids_.data());
+  return arrays;
+}
 
+// The cluster-pair path when the pairs are all known and their box tests are few enough to
+// stay O(primitives): no cells at all.
+bool OhcBroadPhase::cluster_pairs_suffice(std::uint32_t opened) const {
+  if (!by_cluster() || !sweeps_complete_ || !(settings_.max_pair_tests_per_primitive > 0)) return false;
+  Real tests = 0;
+  for (const ClusterPair& cp : cluster_pair_list_) {
+    tests += static_cast<Real>(clusters_[cp.i].prim_count[cp.cluster_i]) *
+             static_cast<Real>(clusters_[cp.j].prim_count[cp.cluster_j]);
+  }
+  return tests <= settings_.max_pair_tests_per_primitive * static_cast<Real>(opened) + 1024.0;
+}
+
+Real OhcBroadPhase::copy_opened_to_primitives(std::span<const CollisionObject> objects, std::uint32_t opened) {
   // The hash's primitives (boxes and cell ranges together), and the edge lengths for its cells.
+  const Real* box_lo[3] = {opened_boxes_.data(), opened_boxes_.data() + opened_stride_,
+                           opened_boxes_.data() + 2 * opened_stride_};
+  const Real* box_hi[3] = {box_lo[2] + opened_stride_, box_lo[2] + 2 * opened_stride_, box_lo[2] + 3 * opened_stride_};
   primitives_.resize(opened);
   Real edge_sum2 = 0;  // Σ squared edge lengths of the hashed primitives
   for (std::uint32_t e = 0; e < opened; ++e) {
@@ -526,38 +598,37 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
     edge_sum2 += (b - a).squaredNorm() + (cc - b).squaredNorm() + (a - cc).squaredNorm();
   }
   const std::size_t edge_count = 3 * static_cast<std::size_t>(opened);
+  // Root mean square edge length: one square root per frame instead of three per primitive.
+  return std::sqrt(edge_sum2 / static_cast<Real>(edge_count));
+}
 
-  // 3. Cell size and cell ranges; double the cell while a few huge boxes would need too many.
+// 3. Cell size and cell ranges; double the cell while a few huge boxes would need too many.
+std::uint64_t OhcBroadPhase::assign_cells(std::size_t object_count, Real rms_edge, CellBlock& block) {
   Real h = settings_.cell_size;
-  if (!(h > 0) || !std::isfinite(h)) {
-    // Root mean square edge length: one square root per frame instead of three per primitive.
-    h = settings_.auto_cell_factor * std::sqrt(edge_sum2 / static_cast<Real>(edge_count));
-  }
+  if (!(h > 0) || !std::isfinite(h)) h = settings_.auto_cell_factor * rms_edge;
   if (!(h > 0) || !std::isfinite(h)) {
     Aabb all;
-    for (std::uint32_t i = 0; i < n; ++i) all.expand(regions_[i]);
+    for (std::size_t i = 0; i < object_count; ++i) all.expand(regions_[i]);
     h = all.is_empty() ? 1.0 : all.size().maxCoeff();
     if (!(h > 0) || !std::isfinite(h)) h = 1.0;
   }
   const Real budget = std::max<Real>(settings_.max_cells_per_primitive, 1.0) *
                           static_cast<Real>(primitives_.size()) + 64.0;
   std::uint64_t entry_count = 0;
-  std::int32_t grid_lo[3];
-  std::int32_t grid_hi[3];
   for (;;) {
     const Real inv_h = 1.0 / h;
     Real total = 0;
     for (int k = 0; k < 3; ++k) {
-      grid_lo[k] = std::numeric_limits<std::int32_t>::max();
-      grid_hi[k] = std::numeric_limits<std::int32_t>::min();
+      block.lo[k] = std::numeric_limits<std::int32_t>::max();
+      block.hi[k] = std::numeric_limits<std::int32_t>::min();
     }
     for (Primitive& prim : primitives_) {
       cell_range(prim, inv_h);
       Real cells = 1;
       for (int k = 0; k < 3; ++k) {
         cells *= static_cast<Real>(static_cast<std::int64_t>(prim.hi[k]) - prim.lo[k]) + 1;  // up to 2^31 + 1
-        grid_lo[k] = std::min(grid_lo[k], prim.lo[k]);
-        grid_hi[k] = std::max(grid_hi[k], prim.hi[k]);
+        block.lo[k] = std::min(block.lo[k], prim.lo[k]);
+        block.hi[k] = std::max(block.hi[k], prim.hi[k]);
       }
       total += cells;
     }
@@ -569,10 +640,14 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
   }
   stats_.cell_size = h;
   stats_.entries = entry_count;
+  return entry_count;
+}
 
-  // 4. Counting sort of the entries by slot: a table of a power of two ≥ 2·entries slots, in a
-  //    buffer that only grows (a frame that needs fewer slots uses a prefix of it, so the
-  //    clearing and prefix sum below stay O(entries)).
+// 4. Counting sort of the entries by slot: a table of a power of two ≥ 2·entries slots, in a
+//    buffer that only grows (a frame that needs fewer slots uses a prefix of it, so the
+//    clearing and prefix sum below stay O(entries)). Leaves slot_start_[s] = first entry of
+//    slot s (and [s + 1] its end); returns the slot mask.
+std::uint32_t OhcBroadPhase::sort_entries_by_slot(std::uint64_t entry_count) {
   const std::size_t table = std::bit_ceil(std::max<std::size_t>(16, 2 * static_cast<std::size_t>(entry_count)));
   if (slot_start_.size() < table + 1) slot_start_.resize(table + 1);
   const auto mask = static_cast<std::uint32_t>(table - 1);
@@ -599,31 +674,7 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
           }
     }
   }
-  // Inclusive prefix sum: start[s] = end of slot s. Filling from the back turns it into the
-  // beginning of slot s, and start[s + 1] (table: = entry_count) is its end.
-  std::uint32_t running = 0;
-#if defined(__SSE2__)
-  // Four slots at a time (the table is a power of two ≥ 16): a prefix sum within the register by
-  // two shifted adds, plus the running total; the scalar loop is one long chain of dependent adds.
-  {
-    __m128i carry = _mm_setzero_si128();
-    for (std::size_t s = 0; s < table; s += 4) {
-      __m128i x = _mm_loadu_si128(reinterpret_cast<const __m128i*>(start + s));
-      x = _mm_add_epi32(x, _mm_slli_si128(x, 4));
-      x = _mm_add_epi32(x, _mm_slli_si128(x, 8));
-      x = _mm_add_epi32(x, carry);
-      _mm_storeu_si128(reinterpret_cast<__m128i*>(start + s), x);
-      carry = _mm_shuffle_epi32(x, _MM_SHUFFLE(3, 3, 3, 3));
-    }
-    running = start[table - 1];
-  }
-#else
-  for (std::size_t s = 0; s < table; ++s) {
-    running += start[s];
-    start[s] = running;
-  }
-#endif
-  start[table] = running;
+  start[table] = inclusive_prefix_sum(start, table);
   entries_.resize(entry_count);
   // emit_cell_pairs scratch, a cell's worth (the box arrays readable 3 past a cell's end).
   if (cell_starts_.size() < entries_.size()) cell_starts_.resize(entries_.size());
@@ -635,11 +686,17 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
   }
   Entry* entries = entries_.data();
   // The staged entries backwards, each slot filled from its back: every slot ends up in
-  // ascending primitive order (step 5 relies on it).
+  // ascending primitive order (emit_slot_pairs relies on it).
   for (std::size_t e = entry_count; e-- > 0;) entries[--start[staged_slots_[e]]] = staged_[e];
+  return mask;
+}
 
-  // 5. Per slot: sort by (cell, primitive) so hash collisions fall apart into cells, then
-  //    classify each cell and emit pairs from the potential-colliding ones.
+// 5. Per slot: sort by (cell, primitive) so hash collisions fall apart into cells, then
+//    classify each cell and emit pairs from the potential-colliding ones.
+void OhcBroadPhase::emit_slot_pairs(std::span<const CollisionObject> objects, std::vector<CandidatePair>& out,
+                                    std::uint64_t entry_count, std::uint32_t mask) {
+  const std::uint32_t* start = slot_start_.data();
+  Entry* entries = entries_.data();
   const auto same_cell = [](const Entry& a, const Entry& b) { return a.x == b.x && a.y == b.y && a.z == b.z; };
   const auto entry_less = [](const Entry& a, const Entry& b) {
     if (a.x != b.x) return a.x < b.x;
@@ -674,9 +731,7 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
     }
     for (std::uint32_t r = b; r < e;) {
       std::uint32_t r_end = r + 1;
-      while (r_end < e && entries[r_end].x == entries[r].x && entries[r_end].y == entries[r].y &&
-             entries[r_end].z == entries[r].z)
-        ++r_end;
+      while (r_end < e && same_cell(entries[r_end], entries[r])) ++r_end;
       ++stats_.cells_touched;
       // Primitives were appended object by object, so the run is sorted by object too.
       if (primitives_[entries[r].primitive].object == primitives_[entries[r_end - 1].primitive].object) {
@@ -688,10 +743,6 @@ void OhcBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
       r = r_end;
     }
   }
-  std::uint64_t block = 1;
-  for (int k = 0; k < 3; ++k) block *= static_cast<std::uint64_t>(static_cast<std::int64_t>(grid_hi[k]) - grid_lo[k] + 1);
-  stats_.empty_cells = block - stats_.cells_touched;
-  stats_.candidate_pairs = out.size();
 }
 
 }  // namespace trocar

@@ -10,6 +10,10 @@
 
 namespace trocar {
 
+namespace ohc_detail {
+struct OpenedArrays;  // ohc_kernels.h
+}  // namespace ohc_detail
+
 /// OHC tuning. The defaults are what the simulator uses.
 struct OhcSettings {
   /// Grid cell edge (metres); 0 = automatic: auto_cell_factor × the root-mean-square edge
@@ -193,6 +197,38 @@ class OhcBroadPhase final : public BroadPhase {
   /// The boxes of group g's clusters, once per frame.
   static void refit_group_clusters(ObjectClusters& c, const CollisionObject& object, std::size_t g, bool simd);
   void cluster_cascade(std::span<const CollisionObject> objects, std::uint32_t i, std::uint32_t j);
+
+  // find_pairs' phases, in order.
+  /// The cascade's cluster level is on (settings).
+  bool by_cluster() const { return settings_.cascade && settings_.cluster_cascade; }
+  /// Clusters (re)built where an object changed, group boxes, object boxes and margin bounds;
+  /// last frame's cluster regions cleared.
+  void refit_objects(std::span<const CollisionObject> objects);
+  /// The tested object pairs whose boxes overlap: their flags, the objects' regions and (cluster
+  /// level) the overlapping cluster pairs.
+  void find_overlapping_objects(std::span<const CollisionObject> objects);
+  /// The triangles whose box touches their object's (or cluster's) region, into the opened
+  /// arrays; returns how many.
+  std::uint32_t open_clusters(std::span<const CollisionObject> objects);
+  /// The opened arrays, grown to hold every triangle of the clusters that may open.
+  ohc_detail::OpenedArrays reserve_opened(std::span<const CollisionObject> objects);
+  /// The cluster pairs are all known and their box tests few enough to skip the cell hash.
+  bool cluster_pairs_suffice(std::uint32_t opened) const;
+  /// The opened triangles as the hash's primitives; returns their root mean square edge length.
+  Real copy_opened_to_primitives(std::span<const CollisionObject> objects, std::uint32_t opened);
+  /// The cells' range spanned by the primitives, per axis.
+  struct CellBlock {
+    std::int32_t lo[3];
+    std::int32_t hi[3];
+  };
+  /// Cell size and each primitive's cell range; returns the (primitive, cell) entry count.
+  std::uint64_t assign_cells(std::size_t object_count, Real rms_edge, CellBlock& block);
+  /// The entries sorted by hash slot (counting sort into entries_, slot_start_); returns the mask.
+  std::uint32_t sort_entries_by_slot(std::uint64_t entry_count);
+  /// Per slot, the cells with primitives of more than one object, and their candidate pairs.
+  void emit_slot_pairs(std::span<const CollisionObject> objects, std::vector<CandidatePair>& out,
+                       std::uint64_t entry_count, std::uint32_t mask);
+
   /// The primitive's first and last cells per axis (lo, hi) for cells of edge 1 / inv_h.
   static void cell_range(Primitive& prim, Real inv_h);
   void expand_region(std::uint32_t object, std::uint32_t cluster, const Aabb& box);

@@ -94,7 +94,7 @@ struct OpenedArrays {
 /// Opens `count` (≤ 32) consecutive triangles of a cluster, eight at a time (AVX-512): those whose
 /// raw box touches [grown_lo, grown_hi] and whose inflated box (triangle_box) clipped to
 /// [clip_lo, clip_hi] is not empty are written at out[at…], in order; returns the new end. The
-/// same triangles and boxes as the scalar loop of OhcBroadPhase::find_pairs. The arrays need room
+/// same triangles and boxes as open_cluster_portable (ohc_broad_phase.cpp). The arrays need room
 /// for 8 entries past the last one written. Requires cpu_has_avx512().
 std::uint32_t open_cluster_avx512(const Vec3* positions, const Triangle* ordered, const std::uint32_t* order,
                                   std::uint32_t count, std::uint32_t object, const Real (&clip_lo)[3],

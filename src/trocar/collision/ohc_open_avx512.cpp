@@ -35,7 +35,7 @@ struct W3 {
 TROCAR_AVX512 __m512d two(const double* lo, const double* hi) {
   return _mm512_insertf64x4(_mm512_castpd256_pd512(_mm256_maskz_loadu_pd(0x7, lo)), _mm256_maskz_loadu_pd(0x7, hi), 1);
 }
-// Eight points as x, y, z vectors (as load8 in narrow_phase_avx512.cpp).
+// Eight points as x, y, z vectors: two 4×3 transposes in 512-bit registers.
 TROCAR_AVX512 W3 load8(const double* const (&p)[8]) {
   const __m512d a = two(p[0], p[2]);
   const __m512d b = two(p[1], p[3]);

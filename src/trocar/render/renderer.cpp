@@ -57,6 +57,18 @@ void to_floats(const std::vector<Vec3>& in, std::vector<float>& out) {
     for (int k = 0; k < 3; ++k) out[3 * i + k] = static_cast<float>(in[i][k]);
 }
 
+/// A new array buffer of `bytes` (from `data`, or uninitialised when null) bound to the bound
+/// vertex array's attribute `location` as three floats per vertex; returns its id.
+GLuint attribute_buffer(GLuint location, GLsizeiptr bytes, const void* data, GLenum usage) {
+  GLuint id = 0;
+  glGenBuffers(1, &id);
+  glBindBuffer(GL_ARRAY_BUFFER, id);
+  glBufferData(GL_ARRAY_BUFFER, bytes, data, usage);
+  glEnableVertexAttribArray(location);
+  glVertexAttribPointer(location, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+  return id;
+}
+
 /// One indexed mesh on the GPU: positions and normals (dynamic for tissue), texture coordinates.
 struct GpuMesh {
   GLuint vao = 0, positions = 0, normals = 0, texcoords = 0, indices = 0;
@@ -69,12 +81,8 @@ struct GpuMesh {
     triangles = tris;
     glGenVertexArrays(1, &vao);
     glBindVertexArray(vao);
-    const auto buffer = [&](GLuint& id, GLuint location, const std::vector<float>& data, GLenum use) {
-      glGenBuffers(1, &id);
-      glBindBuffer(GL_ARRAY_BUFFER, id);
-      glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(data.size() * sizeof(float)), data.data(), use);
-      glEnableVertexAttribArray(location);
-      glVertexAttribPointer(location, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+    const auto buffer = [](GLuint& id, GLuint location, const std::vector<float>& data, GLenum use) {
+      id = attribute_buffer(location, GLsizeiptr(data.size() * sizeof(float)), data.data(), use);
     };
     to_floats(positions_m, scratch_positions);
     vertex_normals(positions_m, tris, scratch_normals);
@@ -122,22 +130,15 @@ struct TexturedMesh {
     glGenVertexArrays(1, &vao);
     glBindVertexArray(vao);
     const std::size_t n = 3 * tris.size();
-    const auto buffer = [&](GLuint& id, GLuint location, GLsizeiptr bytes, const void* data, GLenum use) {
-      glGenBuffers(1, &id);
-      glBindBuffer(GL_ARRAY_BUFFER, id);
-      glBufferData(GL_ARRAY_BUFFER, bytes, data, use);
-      glEnableVertexAttribArray(location);
-      glVertexAttribPointer(location, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
-    };
     std::vector<float> st(3 * n);
     for (std::size_t c = 0; c < n; ++c) {
       st[3 * c] = float(uv[c].x());
       st[3 * c + 1] = float(1.0 - uv[c].y());  // image rows go top to bottom, v goes up
       st[3 * c + 2] = 0;
     }
-    buffer(positions, 0, GLsizeiptr(3 * n * sizeof(float)), nullptr, GL_DYNAMIC_DRAW);
-    buffer(normals, 1, GLsizeiptr(3 * n * sizeof(float)), nullptr, GL_DYNAMIC_DRAW);
-    buffer(texcoords, 2, GLsizeiptr(st.size() * sizeof(float)), st.data(), GL_STATIC_DRAW);
+    positions = attribute_buffer(0, GLsizeiptr(3 * n * sizeof(float)), nullptr, GL_DYNAMIC_DRAW);
+    normals = attribute_buffer(1, GLsizeiptr(3 * n * sizeof(float)), nullptr, GL_DYNAMIC_DRAW);
+    texcoords = attribute_buffer(2, GLsizeiptr(st.size() * sizeof(float)), st.data(), GL_STATIC_DRAW);
     glBindVertexArray(0);
     glGenTextures(1, &texture);
     glBindTexture(GL_TEXTURE_2D, texture);
@@ -186,6 +187,65 @@ Eigen::Matrix4f pose_matrix(const Pose& pose) {
   return m.cast<float>();
 }
 
+// Overlay geometry, as xyz floats appended to a line (or point) list.
+void push_point(std::vector<float>& v, const Vec3& a) {
+  v.push_back(float(a.x()));
+  v.push_back(float(a.y()));
+  v.push_back(float(a.z()));
+}
+
+// The twelve edges of a box whose corner i (bit 0: +x, bit 1: +y, bit 2: +z) is corner(i).
+template <class Corner>
+void push_box_edges(std::vector<float>& v, const Corner& corner) {
+  for (int i = 0; i < 8; ++i)
+    for (int bit : {1, 2, 4})
+      if (!(i & bit)) {
+        push_point(v, corner(i));
+        push_point(v, corner(i | bit));
+      }
+}
+
+// Per instrument in contact, an arrow of the force on the tissue (minus the instrument's) from the
+// contact centre, its two barbs in the plane facing the camera.
+void push_force_arrows(std::vector<float>& v, const ViewSnapshot& snap, const CameraView& cam, Real force_scale) {
+  for (const InstrumentView& iv : snap.instruments) {
+    if (iv.contacts == 0 || iv.force.norm() < 1e-6) continue;
+    const Vec3 a = iv.contact_centre;
+    const Vec3 f = -iv.force * force_scale;
+    const Vec3 b = a + f;
+    push_point(v, a);
+    push_point(v, b);
+    const Vec3 dir = f.normalized();
+    Vec3 side = dir.cross(cam.forward);
+    if (side.norm() < 1e-6) side = dir.cross(cam.up);
+    side = side.normalized() * 0.25 * f.norm();
+    for (const Vec3& tip : {Vec3(b - 0.35 * f + side), Vec3(b - 0.35 * f - side)}) {
+      push_point(v, b);
+      push_point(v, tip);
+    }
+  }
+}
+
+// Cells of edge snap.cell_size holding vertices of an instrument and of a tissue: where the OHC
+// grid finds potential collisions (by vertex occupancy; the detector hashes triangles' boxes).
+void push_shared_cells(std::vector<float>& v, const ViewSnapshot& snap, const std::vector<GpuMesh>& instruments) {
+  const Real h = snap.cell_size;
+  const auto key = [h](const Vec3& x) {
+    const auto c = [h](Real q) { return std::int64_t(std::floor(q / h)) & 0x1fffff; };
+    return (c(x.x()) << 42) | (c(x.y()) << 21) | c(x.z());
+  };
+  std::unordered_set<std::int64_t> instrument_cells, shown;
+  for (std::size_t i = 0; i < snap.instruments.size() && i < instruments.size(); ++i)
+    for (const Vec3& x : instruments[i].local_positions) instrument_cells.insert(key(snap.instruments[i].pose.apply(x)));
+  for (const auto& tissue : snap.tissues)
+    for (const Vec3& x : tissue) {
+      const std::int64_t k = key(x);
+      if (!instrument_cells.count(k) || !shown.insert(k).second) continue;
+      const Vec3 lo(std::floor(x.x() / h) * h, std::floor(x.y() / h) * h, std::floor(x.z() / h) * h);
+      push_box_edges(v, [&](int j) { return Vec3(lo + h * Vec3((j & 1) ? 1 : 0, (j & 2) ? 1 : 0, (j & 4) ? 1 : 0)); });
+    }
+}
+
 }  // namespace
 
 void vertex_normals(const std::vector<Vec3>& positions, const std::vector<Triangle>& triangles,
@@ -227,6 +287,23 @@ struct Renderer::Gpu {
     glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(xyz.size() * sizeof(float)), xyz.data(), GL_STREAM_DRAW);
     glDrawArrays(mode, 0, GLsizei(xyz.size() / 3));
   }
+
+  // Renderer::draw's phases, in order.
+  /// Clears the viewport and sets the mesh program's per-frame uniforms; returns the camera's
+  /// view-projection matrix.
+  Eigen::Matrix4f begin_frame(const CameraView& cam, const RenderOptions& o, int width, int height);
+  /// The mesh program's material (shading mode, base and vessel colours); the id pass overrides it.
+  void material(const RenderOptions& o, int mode, const Eigen::Vector3f& base, const Eigen::Vector3f& vessel,
+                float vessel_strength = 1);
+  /// The mesh program's model and normal matrices.
+  void model(const Eigen::Matrix4f& m);
+  /// Tissues (deformed this frame), rigids and instruments (at their poses).
+  void draw_meshes(const ViewSnapshot& snap, const RenderOptions& o);
+  /// Tissue edges over the shading.
+  void draw_wireframe();
+  /// Contacts, force arrows, boxes, cells and gauges, over everything.
+  void draw_overlays(const ViewSnapshot& snap, const CameraView& cam, const RenderOptions& o,
+                     const Eigen::Matrix4f& view_projection, int height);
 };
 
 Renderer::Renderer(const World& world, const std::vector<std::filesystem::path>& textures)
@@ -280,6 +357,13 @@ Renderer::~Renderer() {
 
 void Renderer::draw(const ViewSnapshot& snap, const CameraView& cam, const RenderOptions& o, int width, int height) {
   Gpu& g = *gpu_;
+  const Eigen::Matrix4f view_projection = g.begin_frame(cam, o, width, height);
+  g.draw_meshes(snap, o);
+  if (o.wireframe && !o.id_colors) g.draw_wireframe();
+  if (!o.id_colors) g.draw_overlays(snap, cam, o, view_projection, height);
+}
+
+Eigen::Matrix4f Renderer::Gpu::begin_frame(const CameraView& cam, const RenderOptions& o, int width, int height) {
   glViewport(0, 0, width, height);
   if (o.id_colors) glClearColor(0, 0, 0, 1);
   else glClearColor(0.035f, 0.012f, 0.010f, 1);  // the unlit depth of the abdominal cavity
@@ -287,148 +371,110 @@ void Renderer::draw(const ViewSnapshot& snap, const CameraView& cam, const Rende
   glEnable(GL_DEPTH_TEST);
   glDisable(GL_CULL_FACE);  // sheets are seen from both sides
   const Eigen::Matrix4f view_projection = cam.projection * cam.view;
-  const GLuint p = g.mesh_program;
+  const GLuint p = mesh_program;
   glUseProgram(p);
-  glUniformMatrix4fv(g.loc(p, "u_view_projection"), 1, GL_FALSE, view_projection.data());
+  glUniformMatrix4fv(loc(p, "u_view_projection"), 1, GL_FALSE, view_projection.data());
   const Eigen::Vector3f eye = cam.eye.cast<float>();
-  glUniform3fv(g.loc(p, "u_eye"), 1, eye.data());
-  const float light_range = static_cast<float>(o.light_range > 0 ? o.light_range : 1.5 * g.scene_size);
-  glUniform1f(g.loc(p, "u_light_range"), light_range);
-  glUniform1f(g.loc(p, "u_texture_scale"), static_cast<float>(12.0 / g.scene_size));
-  glUniform1f(g.loc(p, "u_vignette"), o.id_colors ? 0.0f : static_cast<float>(o.vignette));
-  glUniform2f(g.loc(p, "u_viewport"), float(width), float(height));
-  const auto material = [&](int mode, const Eigen::Vector3f& base, const Eigen::Vector3f& vessel, float vessel_strength = 1) {
-    glUniform1i(g.loc(p, "u_mode"), o.id_colors ? 2 : mode);
-    glUniform1f(g.loc(p, "u_vessel_strength"), vessel_strength);
-    glUniform3fv(g.loc(p, "u_base"), 1, base.data());
-    glUniform3fv(g.loc(p, "u_vessel"), 1, vessel.data());
-  };
-  const auto model = [&](const Eigen::Matrix4f& m) {
-    glUniformMatrix4fv(g.loc(p, "u_model"), 1, GL_FALSE, m.data());
-    const Eigen::Matrix3f normal = m.block<3, 3>(0, 0).inverse().transpose();
-    glUniformMatrix3fv(g.loc(p, "u_normal_matrix"), 1, GL_FALSE, normal.data());
-  };
+  glUniform3fv(loc(p, "u_eye"), 1, eye.data());
+  const float light_range = static_cast<float>(o.light_range > 0 ? o.light_range : 1.5 * scene_size);
+  glUniform1f(loc(p, "u_light_range"), light_range);
+  glUniform1f(loc(p, "u_texture_scale"), static_cast<float>(12.0 / scene_size));
+  glUniform1f(loc(p, "u_vignette"), o.id_colors ? 0.0f : static_cast<float>(o.vignette));
+  glUniform2f(loc(p, "u_viewport"), float(width), float(height));
+  return view_projection;
+}
 
+void Renderer::Gpu::material(const RenderOptions& o, int mode, const Eigen::Vector3f& base,
+                             const Eigen::Vector3f& vessel, float vessel_strength) {
+  const GLuint p = mesh_program;
+  glUniform1i(loc(p, "u_mode"), o.id_colors ? 2 : mode);
+  glUniform1f(loc(p, "u_vessel_strength"), vessel_strength);
+  glUniform3fv(loc(p, "u_base"), 1, base.data());
+  glUniform3fv(loc(p, "u_vessel"), 1, vessel.data());
+}
+
+void Renderer::Gpu::model(const Eigen::Matrix4f& m) {
+  const GLuint p = mesh_program;
+  glUniformMatrix4fv(loc(p, "u_model"), 1, GL_FALSE, m.data());
+  const Eigen::Matrix3f normal = m.block<3, 3>(0, 0).inverse().transpose();
+  glUniformMatrix3fv(loc(p, "u_normal_matrix"), 1, GL_FALSE, normal.data());
+}
+
+void Renderer::Gpu::draw_meshes(const ViewSnapshot& snap, const RenderOptions& o) {
   model(Eigen::Matrix4f::Identity());
-  for (std::size_t t = 0; t < g.tissues.size() && t < snap.tissues.size(); ++t) {
-    if (snap.tissues[t].size() * 3 != g.tissues[t].scratch_positions.size()) continue;
-    if (g.textured[t]) {
-      g.textured[t]->update(snap.tissues[t]);
-      material(3, o.id_colors ? Eigen::Vector3f(1, 0, 0) : Eigen::Vector3f(1, 1, 1), Eigen::Vector3f::Zero());
-      glUniform1i(g.loc(p, "u_texture"), 0);
-      g.textured[t]->draw();
+  for (std::size_t t = 0; t < tissues.size() && t < snap.tissues.size(); ++t) {
+    if (snap.tissues[t].size() * 3 != tissues[t].scratch_positions.size()) continue;
+    if (textured[t]) {
+      textured[t]->update(snap.tissues[t]);
+      material(o, 3, o.id_colors ? Eigen::Vector3f(1, 0, 0) : Eigen::Vector3f(1, 1, 1), Eigen::Vector3f::Zero());
+      glUniform1i(loc(mesh_program, "u_texture"), 0);
+      textured[t]->draw();
       if (!o.wireframe) continue;
     }
-    g.tissues[t].update(snap.tissues[t]);
-    if (g.textured[t]) continue;  // updated for the wireframe pass only
-    material(0, o.id_colors ? Eigen::Vector3f(1, 0, 0) : Eigen::Vector3f(0.80f, 0.36f, 0.33f),
+    tissues[t].update(snap.tissues[t]);
+    if (textured[t]) continue;  // updated for the wireframe pass only
+    material(o, 0, o.id_colors ? Eigen::Vector3f(1, 0, 0) : Eigen::Vector3f(0.80f, 0.36f, 0.33f),
              Eigen::Vector3f(0.42f, 0.04f, 0.07f));
-    g.tissues[t].draw();
+    tissues[t].draw();
   }
-  for (GpuMesh& r : g.rigids) {
-    material(0, o.id_colors ? Eigen::Vector3f(0, 0, 1) : Eigen::Vector3f(0.62f, 0.22f, 0.20f),
+  for (GpuMesh& r : rigids) {
+    material(o, 0, o.id_colors ? Eigen::Vector3f(0, 0, 1) : Eigen::Vector3f(0.62f, 0.22f, 0.20f),
              Eigen::Vector3f(0.78f, 0.62f, 0.55f), 0.35f);  // muscle with faint fascia strands
     r.draw();
   }
-  for (std::size_t i = 0; i < g.instruments.size() && i < snap.instruments.size(); ++i) {
+  for (std::size_t i = 0; i < instruments.size() && i < snap.instruments.size(); ++i) {
     model(pose_matrix(snap.instruments[i].pose));
-    material(1, o.id_colors ? Eigen::Vector3f(0, 1, 0) : Eigen::Vector3f(0.62f, 0.64f, 0.68f), Eigen::Vector3f::Zero());
-    g.instruments[i].draw();
+    material(o, 1, o.id_colors ? Eigen::Vector3f(0, 1, 0) : Eigen::Vector3f(0.62f, 0.64f, 0.68f),
+             Eigen::Vector3f::Zero());
+    instruments[i].draw();
   }
-  if (o.wireframe && !o.id_colors) {
-    model(Eigen::Matrix4f::Identity());
-    glUniform1i(g.loc(p, "u_mode"), 2);
-    const Eigen::Vector3f edge(0.15f, 0.05f, 0.05f);
-    glUniform3fv(g.loc(p, "u_base"), 1, edge.data());
-    glPolygonMode(GL_FRONT_AND_BACK, GL_LINE);
-    glEnable(GL_POLYGON_OFFSET_LINE);
-    glPolygonOffset(-1, -1);
-    for (GpuMesh& m : g.tissues) m.draw();
-    glDisable(GL_POLYGON_OFFSET_LINE);
-    glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
-  }
-  if (o.id_colors) return;
+}
 
-  // Overlays, drawn over everything so they stay visible inside the tissue.
+void Renderer::Gpu::draw_wireframe() {
+  model(Eigen::Matrix4f::Identity());
+  glUniform1i(loc(mesh_program, "u_mode"), 2);
+  const Eigen::Vector3f edge(0.15f, 0.05f, 0.05f);
+  glUniform3fv(loc(mesh_program, "u_base"), 1, edge.data());
+  glPolygonMode(GL_FRONT_AND_BACK, GL_LINE);
+  glEnable(GL_POLYGON_OFFSET_LINE);
+  glPolygonOffset(-1, -1);
+  for (GpuMesh& m : tissues) m.draw();
+  glDisable(GL_POLYGON_OFFSET_LINE);
+  glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+}
+
+void Renderer::Gpu::draw_overlays(const ViewSnapshot& snap, const CameraView& cam, const RenderOptions& o,
+                                  const Eigen::Matrix4f& view_projection, int height) {
+  // Drawn over everything so they stay visible inside the tissue.
   glDisable(GL_DEPTH_TEST);
   glEnable(GL_PROGRAM_POINT_SIZE);
-  std::vector<float>& v = g.lines;
-  const auto push = [&v](const Vec3& a) {
-    v.push_back(float(a.x()));
-    v.push_back(float(a.y()));
-    v.push_back(float(a.z()));
-  };
+  std::vector<float>& v = lines;
   if (o.contacts) {
     v.clear();
-    for (const ContactView& c : snap.contacts) push(c.point);
-    g.overlay(view_projection, GL_POINTS, v, {1.0f, 0.9f, 0.1f, 1}, std::max(3.0f, float(height) / 160));
+    for (const ContactView& c : snap.contacts) push_point(v, c.point);
+    overlay(view_projection, GL_POINTS, v, {1.0f, 0.9f, 0.1f, 1}, std::max(3.0f, float(height) / 160));
   }
   if (o.forces) {
     v.clear();
-    for (const InstrumentView& iv : snap.instruments) {
-      if (iv.contacts == 0 || iv.force.norm() < 1e-6) continue;
-      // The arrow shows the force on the tissue (minus the instrument's), from the contact centre.
-      const Vec3 a = iv.contact_centre;
-      const Vec3 f = -iv.force * o.force_scale;
-      const Vec3 b = a + f;
-      push(a);
-      push(b);
-      const Vec3 dir = f.normalized();
-      Vec3 side = dir.cross(cam.forward);
-      if (side.norm() < 1e-6) side = dir.cross(cam.up);
-      side = side.normalized() * 0.25 * f.norm();
-      for (const Vec3& tip : {Vec3(b - 0.35 * f + side), Vec3(b - 0.35 * f - side)}) {
-        push(b);
-        push(tip);
-      }
-    }
+    push_force_arrows(v, snap, cam, o.force_scale);
     glLineWidth(2);
-    g.overlay(view_projection, GL_LINES, v, {0.2f, 1.0f, 0.4f, 1});
+    overlay(view_projection, GL_LINES, v, {0.2f, 1.0f, 0.4f, 1});
   }
   if (o.obb) {
     v.clear();
     for (const InstrumentView& iv : snap.instruments) {
       const Obb& b = iv.obb;
-      const auto corner = [&b](int i) {
-        Vec3 s((i & 1) ? 1 : -1, (i & 2) ? 1 : -1, (i & 4) ? 1 : -1);
+      push_box_edges(v, [&b](int i) {
+        const Vec3 s((i & 1) ? 1 : -1, (i & 2) ? 1 : -1, (i & 4) ? 1 : -1);
         return Vec3(b.center + b.axes * s.cwiseProduct(b.half_extents));
-      };
-      for (int i = 0; i < 8; ++i)
-        for (int bit : {1, 2, 4})
-          if (!(i & bit)) {
-            push(corner(i));
-            push(corner(i | bit));
-          }
+      });
     }
-    g.overlay(view_projection, GL_LINES, v, {0.3f, 0.7f, 1.0f, 1});
+    overlay(view_projection, GL_LINES, v, {0.3f, 0.7f, 1.0f, 1});
   }
   if (o.cells && snap.cell_size > 0) {
-    // Cells holding vertices of an instrument and of a tissue: where the OHC grid finds
-    // potential collisions (by vertex occupancy; the detector hashes triangles' boxes).
-    const Real h = snap.cell_size;
-    const auto key = [h](const Vec3& x) {
-      const auto c = [h](Real q) { return std::int64_t(std::floor(q / h)) & 0x1fffff; };
-      return (c(x.x()) << 42) | (c(x.y()) << 21) | c(x.z());
-    };
-    std::unordered_set<std::int64_t> instrument_cells, shown;
-    for (std::size_t i = 0; i < snap.instruments.size() && i < g.instruments.size(); ++i)
-      for (const Vec3& x : g.instruments[i].local_positions)
-        instrument_cells.insert(key(snap.instruments[i].pose.apply(x)));
     v.clear();
-    for (const auto& tissue : snap.tissues)
-      for (const Vec3& x : tissue) {
-        const std::int64_t k = key(x);
-        if (!instrument_cells.count(k) || !shown.insert(k).second) continue;
-        const Vec3 lo(std::floor(x.x() / h) * h, std::floor(x.y() / h) * h, std::floor(x.z() / h) * h);
-        for (int i = 0; i < 8; ++i)
-          for (int bit : {1, 2, 4})
-            if (!(i & bit)) {
-              const auto c = [&](int j) { return Vec3(lo + h * Vec3((j & 1) ? 1 : 0, (j & 2) ? 1 : 0, (j & 4) ? 1 : 0)); };
-              push(c(i));
-              push(c(i | bit));
-            }
-      }
-    g.overlay(view_projection, GL_LINES, v, {1.0f, 0.5f, 0.1f, 0.8f});
+    push_shared_cells(v, snap, instruments);
+    overlay(view_projection, GL_LINES, v, {1.0f, 0.5f, 0.1f, 0.8f});
   }
   if (o.gauge) {
     // One bar per instrument, bottom left, in normalised device coordinates.
@@ -439,9 +485,9 @@ void Renderer::draw(const ViewSnapshot& snap, const CameraView& cam, const Rende
         v = {a, y0, 0, b, y0, 0, b, y1, 0, a, y0, 0, b, y1, 0, a, y1, 0};
       };
       quad(x0, x1);
-      g.overlay(Eigen::Matrix4f::Identity(), GL_TRIANGLES, v, {0.15f, 0.15f, 0.15f, 1});
+      overlay(Eigen::Matrix4f::Identity(), GL_TRIANGLES, v, {0.15f, 0.15f, 0.15f, 1});
       quad(x0, x0 + f * (x1 - x0));
-      g.overlay(Eigen::Matrix4f::Identity(), GL_TRIANGLES, v, {0.2f + 0.8f * f, 0.9f * (1 - f) + 0.1f, 0.2f, 1});
+      overlay(Eigen::Matrix4f::Identity(), GL_TRIANGLES, v, {0.2f + 0.8f * f, 0.9f * (1 - f) + 0.1f, 0.2f, 1});
     }
   }
   glEnable(GL_DEPTH_TEST);
