@@ -336,6 +336,10 @@ void read_header(Cursor& c, const std::string& file, std::string_view data, Reco
 
 }  // namespace
 
+std::uint64_t block_checksum(const unsigned char* payload, std::size_t bytes, std::uint32_t version) {
+  return fnv1a(payload, bytes, version == 1 ? kVersion1Basis : kFnvBasis);
+}
+
 Recording parse_recording(std::string_view data, const std::string& file, bool strict) {
   Recording rec;
   rec.file_bytes = data.size();
@@ -350,7 +354,7 @@ Recording parse_recording(std::string_view data, const std::string& file, bool s
       if (std::memcmp(bh.magic, kBlockMagic, 4) != 0) throw FileError(file, FileLocation::byte(block_at), "no block magic TRBK");
       c.need(bh.payload_bytes, "a block's payload");
       const unsigned char* payload = c.here();
-      if (fnv1a(payload, bh.payload_bytes, rec.header.version == 1 ? kVersion1Basis : kFnvBasis) != bh.checksum)
+      if (block_checksum(payload, bh.payload_bytes, rec.header.version) != bh.checksum)
         throw FileError(file, FileLocation::byte(block_at), "block checksum mismatch (corrupt data)");
       std::size_t bad_at = 0;
       const std::string why = parse_payload(payload, bh.payload_bytes, bh.records, rec, bad_at);

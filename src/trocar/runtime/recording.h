@@ -99,4 +99,7 @@ Recording read_recording(const std::filesystem::path& file, bool strict);
 /// The same from the file's bytes; `file` names it in errors.
 Recording parse_recording(std::string_view bytes, const std::string& file, bool strict);
 
+/// The checksum a block of a file of format `version` carries over its payload (FNV-1a, 64-bit).
+std::uint64_t block_checksum(const unsigned char* payload, std::size_t bytes, std::uint32_t version);
+
 }  // namespace trocar
