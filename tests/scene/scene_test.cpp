@@ -150,9 +150,10 @@ TEST(Scene, SchemaKeyframesAndTopVertexAreChecked) {
   EXPECT_EQ(error_of(R"({"schema": 1, "timestep": 2e308})"), "scene.json: invalid JSON: number overflow parsing '2e308'");
 }
 
-// Finite factors whose product or sum overflows (fuzz_scene found the first).
+// Finite factors whose product or sum overflows (fuzz_scene found the first): a 4 m box (corners
+// at ±2 m) scaled by 1e308.
 TEST(Scene, PlacementOrMotionThatOverflowsIsAnError) {
-  EXPECT_EQ(error_of(R"({"schema": 1, "rigids": [{"mesh": {"generate": "box", "size": [2, 1, 1]}, "scale": 1e308}]})"),
+  EXPECT_EQ(error_of(R"({"schema": 1, "rigids": [{"mesh": {"generate": "box", "size": [4, 1, 1]}, "scale": 1e308}]})"),
             "scene.json: rigids[0]: the placed mesh has a non-finite vertex position (scale or translate too large)");
   EXPECT_EQ(error_of(R"({"schema": 1, "instruments": [{"mesh": {"generate": "box", "size": [1e308, 1, 1]},
                         "translate": [1.7e308, 0, 0]}]})"),
