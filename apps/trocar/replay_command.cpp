@@ -26,9 +26,10 @@ void add_replay_command(CLI::App& app, int& exit_code) {
     const ReplayResult r = replay_recording(o->recording);
     if (!o->quiet)
       std::printf("replay: %llu steps; state hash %s, recorded %s: %s\n", (unsigned long long)r.steps,
-                  hash_hex(r.state_hash).c_str(), hash_hex(r.recorded_hash).c_str(),
-                  r.matches() ? "identical" : "DIFFERENT");
-    if (!r.matches()) exit_code = 3;
+                  hash_hex(r.state_hash).c_str(), hash_hex(r.recorded_hash).c_str(), r.verdict().c_str());
+    // 3: the state differs; 4: nothing to compare against (made on another kernel path).
+    if (!r.comparable()) exit_code = 4;
+    else if (!r.matches()) exit_code = 3;
   });
 }
 

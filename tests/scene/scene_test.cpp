@@ -146,6 +146,22 @@ TEST(Scene, SchemaKeyframesAndTopVertexAreChecked) {
       "top_vertex": 8}]})"),
             "scene.json: instruments[0].top_vertex: must be in [0, 7], not 8");
   EXPECT_EQ(error_of("{\"schema\": 1,"), "scene.json: byte 14: invalid JSON");
+  // A number beyond double's range is a trocar::Error too (fuzz_scene found it escaping).
+  EXPECT_EQ(error_of(R"({"schema": 1, "timestep": 2e308})"), "scene.json: invalid JSON: number overflow parsing '2e308'");
+}
+
+// Finite factors whose product or sum overflows (fuzz_scene found the first): a 4 m box (corners
+// at ±2 m) scaled by 1e308.
+TEST(Scene, PlacementOrMotionThatOverflowsIsAnError) {
+  EXPECT_EQ(error_of(R"({"schema": 1, "rigids": [{"mesh": {"generate": "box", "size": [4, 1, 1]}, "scale": 1e308}]})"),
+            "scene.json: rigids[0]: the placed mesh has a non-finite vertex position (scale or translate too large)");
+  EXPECT_EQ(error_of(R"({"schema": 1, "instruments": [{"mesh": {"generate": "box", "size": [1e308, 1, 1]},
+                        "translate": [1.7e308, 0, 0]}]})"),
+            "scene.json: instruments[0]: the placed mesh has a non-finite vertex position (scale or translate too large)");
+  EXPECT_EQ(error_of(R"({"schema": 1, "instruments": [{"mesh": {"generate": "box", "size": [0.01, 0.01, 0.1]},
+      "motion": {"keyframes": [{"t": 0, "position": [-1e308, 0, 0]}, {"t": 1, "position": [1e308, 0, 0]}]}}]})"),
+            "scene.json: instruments[0].motion.keyframes[1].position: too far from the previous keyframe's position "
+            "(the motion between them overflows)");
 }
 
 TEST(Scene, MeshPathsAreRelativeToTheSceneFile) {

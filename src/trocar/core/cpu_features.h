@@ -14,4 +14,19 @@ bool cpu_has_avx2_fma();
 /// FMA, and TROCAR_SIMD is not "off".
 bool cpu_has_avx512();
 
+/// The widest kernels this process takes, by the three checks above. The floating-point results
+/// (and so a simulation's state hash) can differ between paths: FMA contracts a·b + c with one
+/// rounding, and the vector loops sum in another order.
+enum class KernelPath { kPortable, kAvx2NoFma, kAvx2, kAvx512 };
+
+/// This process's kernel path.
+KernelPath kernel_path();
+/// "portable", "avx2-nofma", "avx2" or "avx512" (what a session recording stores).
+const char* kernel_path_name(KernelPath path);
+
+/// Caps the kernel path for the rest of the process (a path the CPU lacks is never taken:
+/// the cap only narrows). For tests that compare paths in one process; objects built before
+/// the call keep the path they chose. Not thread-safe against running simulations.
+void cap_kernel_path(KernelPath widest);
+
 }  // namespace trocar

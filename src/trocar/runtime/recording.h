@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <thread>
 #include <vector>
 
@@ -19,6 +20,11 @@ struct RecordingHeader {
   double haptic_rate_hz = 0;      ///< haptic rate of the session (Hz)
   double timestep = 0;            ///< scene timestep (s)
   std::uint32_t mode = 0;         ///< 0 multirate, 1 lock-step
+  /// The kernel path the session ran on (core/cpu_features.h: "avx512", "avx2", "portable", …);
+  /// state hashes are comparable only between recordings of one path. kUnknownKernelPath when
+  /// read from a version 1 file.
+  std::string kernel_path = kUnknownKernelPath;
+  std::uint32_t version = kRecordingVersion;  ///< the file's format version (as read; always written current)
   std::string scene_path;         ///< absolute path of the scene file (resolves its meshes)
   std::string scene_text;         ///< the scene file's text as it was run
 };
@@ -82,8 +88,18 @@ struct Recording {
 
 /// Reads a recording. strict: a truncated or corrupt block, or a missing end record, throws
 /// trocar::FileError naming the file and the byte offset. Not strict: reading stops at the first
-/// bad block and `end` tells whether the file was complete (for plotting a killed session).
-/// A bad header always throws.
+/// bad block and `end` tells whether the file was complete (for plotting a killed session); the
+/// recording then holds the records of the complete blocks only.
+/// A bad header always throws. Besides the checksums, a block is bad when a record's replay
+/// inputs are out of range: more instruments than the header's, an unknown step mode or device
+/// status, a non-finite pose, jaw or dt, a dt ≤ 0, a commanded rotation that is not a unit
+/// quaternion.
 Recording read_recording(const std::filesystem::path& file, bool strict);
+
+/// The same from the file's bytes; `file` names it in errors.
+Recording parse_recording(std::string_view bytes, const std::string& file, bool strict);
+
+/// The checksum a block of a file of format `version` carries over its payload (FNV-1a, 64-bit).
+std::uint64_t block_checksum(const unsigned char* payload, std::size_t bytes, std::uint32_t version);
 
 }  // namespace trocar

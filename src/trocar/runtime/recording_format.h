@@ -4,6 +4,7 @@
 /// a file readable up to its last complete block.
 ///
 ///   header  "TROCREC1" u32 version u32 instruments f64 haptic_rate_hz f64 timestep_s u32 mode
+///           [version 2: u64 kernel_path_bytes, kernel path (ASCII, core/cpu_features.h)]
 ///           u64 scene_path_bytes, scene path (UTF-8), u64 scene_text_bytes, scene text
 ///   block   "TRBK" u32 record_count u32 payload_bytes u32 reserved u64 fnv1a(payload), payload
 ///   record  TickRecord | StepRecord | EndRecord (first field: u32 type, second: u32 bytes)
@@ -16,7 +17,12 @@ namespace trocar {
 
 inline constexpr char kRecordingMagic[8] = {'T', 'R', 'O', 'C', 'R', 'E', 'C', '1'};
 inline constexpr char kBlockMagic[4] = {'T', 'R', 'B', 'K'};
-inline constexpr std::uint32_t kRecordingVersion = 1;
+/// The version written. Version 1 (no kernel path) still reads, its kernel path "unknown".
+inline constexpr std::uint32_t kRecordingVersion = 2;
+/// The oldest version read.
+inline constexpr std::uint32_t kRecordingOldestVersion = 1;
+/// The kernel path of a recording whose header does not state one (version 1).
+inline constexpr const char* kUnknownKernelPath = "unknown";
 
 /// Record types.
 enum class RecordType : std::uint32_t { kTick = 1, kStep = 2, kEnd = 3 };

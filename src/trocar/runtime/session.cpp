@@ -1,5 +1,6 @@
 #include "trocar/runtime/session.h"
 
+#include "trocar/core/cpu_features.h"
 #include "trocar/core/error.h"
 #include "trocar/device/null_device.h"
 #include "trocar/device/port_device.h"
@@ -14,9 +15,6 @@
 #endif
 
 namespace trocar {
-namespace {
-
-}  // namespace
 
 PortKinematics port_kinematics(const DeviceSpec& spec, const InstrumentBody& body) {
   const Pose start = body.motion.keyframes().empty() ? body.instrument.pose() : body.motion.sample(0).pose;
@@ -87,6 +85,7 @@ RecordingHeader session_header(const std::filesystem::path& scene_file, std::str
   h.haptic_rate_hz = settings.haptic_rate_hz;
   h.timestep = settings.lockstep ? 1.0 / settings.haptic_rate_hz : settings.physics_timestep;
   h.mode = settings.lockstep ? 1 : 0;
+  h.kernel_path = kernel_path_name(kernel_path());
   h.scene_path = std::filesystem::absolute(scene_file).lexically_normal().string();
   h.scene_text = std::move(scene_text);
   return h;
@@ -115,7 +114,20 @@ ReplayResult replay_recording(const std::filesystem::path& file) {
   r.steps = rec.steps.size();
   r.state_hash = sim.state_hash();
   r.recorded_hash = rec.end->state_hash;
+  r.recorded_kernel_path = rec.header.kernel_path;
+  r.kernel_path = kernel_path_name(kernel_path());
   return r;
+}
+
+std::string ReplayResult::verdict() const {
+  if (!comparable())
+    return "recorded on " + recorded_kernel_path + ", replaying on " + kernel_path +
+           ": hashes are not comparable across kernel paths";
+  if (matches()) return "identical";
+  if (recorded_kernel_path == kUnknownKernelPath)
+    return "DIFFERENT (the recording does not state its kernel path; replaying on " + kernel_path +
+           ", and a recording made on another path differs)";
+  return "DIFFERENT";
 }
 
 }  // namespace trocar

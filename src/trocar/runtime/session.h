@@ -3,9 +3,11 @@
 /// "motion" played as a scripted device), and replaying a recorded session.
 #include <cstdint>
 #include <filesystem>
+#include <string>
 #include <vector>
 
 #include "trocar/device/port_device.h"
+#include "trocar/runtime/recording.h"
 #include "trocar/runtime/runtime.h"
 #include "trocar/scene/scene.h"
 
@@ -33,11 +35,21 @@ struct ReplayResult {
   std::uint64_t steps = 0;            ///< steps replayed
   std::uint64_t state_hash = 0;       ///< after the last one
   std::uint64_t recorded_hash = 0;    ///< the recording's
+  std::string recorded_kernel_path;   ///< the recording's header ("unknown" for version 1)
+  std::string kernel_path;            ///< the replay's (core/cpu_features.h)
   bool matches() const { return state_hash == recorded_hash; }  ///< bit for bit
+  /// The hashes can be compared: both runs took the same kernel path, or the recording does not
+  /// say which it took (then a mismatch may be the path's doing; verdict() says so).
+  bool comparable() const {
+    return recorded_kernel_path == kernel_path || recorded_kernel_path == kUnknownKernelPath;
+  }
+  /// "identical", "DIFFERENT" (with a note when the recording does not state its kernel path),
+  /// or "recorded on avx2, replaying on portable: hashes are not comparable across kernel paths".
+  std::string verdict() const;
 };
 
 /// Rebuilds the session's scene from the recording (its text, meshes relative to its recorded
-/// path) and redoes every recorded physics step in lock-step. Throws trocar::FileError for a
+/// path) and redoes every recorded physics step in lock-step on this process's kernel path. Throws trocar::FileError for a
 /// truncated or corrupt recording (with the byte offset).
 ReplayResult replay_recording(const std::filesystem::path& recording);
 

@@ -22,7 +22,11 @@ TriMesh placed_mesh(const JsonReader& obj, const std::filesystem::path& dir) {
   TriMesh mesh = load_mesh_source(obj.at("mesh"), dir);
   const Real scale = obj.has("scale") ? obj.at("scale").number_above(0) : 1.0;
   const Pose place = Pose::from_euler_deg(obj.vec3_or("translate", Vec3::Zero()), obj.vec3_or("rotate_deg", Vec3::Zero()));
-  for (Vec3& p : mesh.positions) p = place.apply(scale * p);
+  for (Vec3& p : mesh.positions) {
+    p = place.apply(scale * p);
+    // Each factor is finite, but their product or sum can overflow (scale 1e308 of a 2 m box).
+    if (!p.allFinite()) obj.fail("the placed mesh has a non-finite vertex position (scale or translate too large)");
+  }
   for (Vec3& n : mesh.normals) n = place.apply_vector(n);
   if (obj.boolean_or("repair", false)) repair(mesh);
   if (mesh.empty()) obj.at("mesh").fail("the mesh has no triangles");
@@ -148,6 +152,9 @@ KeyframeMotion read_motion(const JsonReader& m) {
     key.t = k.at("t").number_at_least(0);
     if (!keys.empty() && !(key.t > keys.back().t)) k.at("t").fail("must be greater than the previous keyframe's t");
     key.position = k.at("position").vec3();
+    // The motion interpolates between neighbours: their difference must be finite too.
+    if (!keys.empty() && !(key.position - keys.back().position).allFinite())
+      k.at("position").fail("too far from the previous keyframe's position (the motion between them overflows)");
     key.rotation = Pose::from_euler_deg(Vec3::Zero(), k.vec3_or("rotate_deg", Vec3::Zero())).rotation;
     if (k.has("jaw")) {
       key.jaw = k.at("jaw").number_at_least(0);
@@ -350,6 +357,10 @@ Scene parse_scene(std::string_view text, const std::string& file, const std::fil
     doc = nlohmann::json::parse(text);
   } catch (const nlohmann::json::parse_error& e) {
     throw Error(file + ": byte " + std::to_string(e.byte) + ": invalid JSON");
+  } catch (const nlohmann::json::exception& e) {
+    // A number beyond double's range (out_of_range 406): its text, without the library's prefix.
+    const std::string what = e.what();
+    throw Error(file + ": invalid JSON: " + what.substr(what.find("] ") == std::string::npos ? 0 : what.find("] ") + 2));
   }
   const JsonReader root(doc, file);
   root.expect_keys({"schema", "name", "timestep", "duration", "gravity", "tissues", "instruments", "rigids",
