@@ -82,4 +82,26 @@ bool stop_and_join(Runtime& runtime, ManualClock& clock, std::thread& thread, st
   return ended;
 }
 
+/// Runs `runtime.run()` on its own thread on `clock` (which the runtime's settings name): to its
+/// start, `periods` periods of `period_ns` one at a time (each until `loops` loops are parked
+/// again: 2 multirate, 1 lock-step), then one more to stop. Returns run()'s report; a loop that
+/// hangs fails the test.
+template <typename Runtime>
+auto run_for_periods(Runtime& runtime, ManualClock& clock, int loops, int periods, std::int64_t period_ns) {
+  decltype(runtime.run()) report;
+  std::thread thread([&] { report = runtime.run(); });
+  bool parked = clock.settle(loops);
+  if (parked) {
+    clock.advance(clock.next_deadline() - clock.now_ns());
+    parked = clock.settle(loops);
+  }
+  for (int i = 1; i < periods && parked; ++i) {
+    clock.advance(period_ns);
+    parked = clock.settle(loops);
+  }
+  EXPECT_TRUE(parked) << "a runtime loop did not park again within 30 s";
+  EXPECT_TRUE(stop_and_join(runtime, clock, thread, period_ns)) << "run() did not end within 30 s of request_stop";
+  return report;
+}
+
 }  // namespace trocar::test
