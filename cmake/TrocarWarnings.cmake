@@ -32,16 +32,16 @@ endfunction()
 # ctest. SHARED_DATA: some of its tests read ../shared/data/meshes through
 # tests/support/shared_data.h and skip when it is absent; they carry the ctest label
 # `shared_data`, which .ci/run runs once more with the folder hidden (the fresh-clone check).
-# REAL_TIME: its tests run real-time threads and check a rate or an on-time count against the
-# wall clock (the runtime, the viewer); ctest runs them alone (RUN_SERIAL), as two such tests side
-# by side on a 2-core machine starve each other's haptic thread (a viewer run measured 847 Hz).
+# REAL_TIME: its tests run real-time threads (the runtime, the viewer); ctest runs them alone
+# (RUN_SERIAL), as two such tests side by side on a 2-core machine starve each other. They count
+# ticks and steps (a manual clock, frame scripts); rates are the benchmarks'.
 function(trocar_add_test name)
   cmake_parse_arguments(T "SHARED_DATA;REAL_TIME" "" "SOURCES;DEPS" ${ARGN})
   if(NOT T_SOURCES)
     return()
   endif()
   add_executable(${name} ${T_SOURCES})
-  target_link_libraries(${name} PRIVATE ${T_DEPS} GTest::gtest_main)
+  target_link_libraries(${name} PRIVATE ${T_DEPS} trocar_test_main)
   target_include_directories(${name} PRIVATE ${PROJECT_SOURCE_DIR}/tests)
   target_compile_definitions(${name} PRIVATE
     TROCAR_SHARED_MESHES_DEFAULT="${PROJECT_SOURCE_DIR}/../shared/data/meshes")
@@ -55,7 +55,10 @@ function(trocar_add_test name)
     set(serial TRUE)
     list(APPEND labels real_time)
   endif()
+  # Each test logs its skip for the check_skips test (tests/CMakeLists.txt), which runs after them.
   gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60 TEST_PREFIX "${name}."
     PROPERTIES ENVIRONMENT "LSAN_OPTIONS=suppressions=${PROJECT_SOURCE_DIR}/tests/lsan.supp"
+               ENVIRONMENT_MODIFICATION "TROCAR_SKIP_LOG=set:${TROCAR_SKIP_LOG}"
+               FIXTURES_REQUIRED trocar_skip_log
                LABELS "${labels}" RUN_SERIAL ${serial})
 endfunction()

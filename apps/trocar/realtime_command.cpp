@@ -74,6 +74,7 @@ void run_realtime(const RealtimeOptions& o) {
       {"jitter_us_p99", r.jitter_us_p99},
       {"period_us", histogram_json(r.period_us)},
       {"ticks", r.ticks},
+      {"skipped_slots", r.skipped_slots},
       {"physics_rate_hz", r.physics_rate_hz},
       {"physics_steps", r.physics_steps},
       {"realtime_factor", r.wall_time > 0 ? r.sim_time / r.wall_time : 0},

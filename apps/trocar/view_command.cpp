@@ -15,7 +15,7 @@ void add_view_command(CLI::App& app, int& exit_code) {
   struct Options {
     std::string scene, camera = "scope", screenshot, report, inject, record_dir = "out", size = "1280x720";
     double rate = 1000, quit_after = 0;
-    int drive = 0, samples = 4;
+    int drive = 0, samples = 4, quit_after_frames = 0;
     bool no_panel = false, no_realtime = false;
   };
   auto o = std::make_shared<Options>();
@@ -27,6 +27,8 @@ void add_view_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--drive", o->drive, "Instrument the mouse drives when the scene names no device for it (-1: none)")
       ->check(CLI::Range(-1, 3));
   cmd->add_option("--quit-after", o->quit_after, "Quit after this many seconds")->check(CLI::NonNegativeNumber);
+  cmd->add_option("--quit-after-frames", o->quit_after_frames, "Quit after drawing this many frames")
+      ->check(CLI::NonNegativeNumber);
   cmd->add_option("--screenshot", o->screenshot, "Write a PNG of the window just before quitting");
   cmd->add_option("--report", o->report, "Write a JSON report (frame rate, haptic rate, misses) when quitting");
   cmd->add_option("--inject", o->inject, "Play a script of mouse and key events (docs/render.md)");
@@ -44,6 +46,7 @@ void add_view_command(CLI::App& app, int& exit_code) {
     v.haptic_rate_hz = o->rate;
     v.drive = o->drive;
     v.quit_after = o->quit_after;
+    v.quit_after_frames = o->quit_after_frames;
     v.screenshot = o->screenshot;
     v.report = o->report;
     v.inject = o->inject;

@@ -79,7 +79,7 @@ TEST_F(BenchCli, JsonListsEveryMethodWithTheSamePairCount) {
     ASSERT_TRUE(m["median_us"].is_number());
     ASSERT_TRUE(m["p95_us"].is_number());
     ASSERT_TRUE(m["pairs"].is_number_integer());
-    EXPECT_GE(m["median_us"].get<double>(), 0);
+    EXPECT_GT(m["median_us"].get<double>(), 0) << "a query takes time";
     EXPECT_GE(m["p95_us"].get<double>(), m["median_us"].get<double>());
     EXPECT_EQ(m["pairs"], j[0]["pairs"]) << m["method"] << " vs " << j[0]["method"];
     methods.insert(m["method"].get<std::string>());

@@ -58,7 +58,7 @@ TEST_F(RunCli, WritesAValidReportAndRecording) {
   }
   EXPECT_GE(j["penetration_m"]["max"].get<double>(), j["penetration_m"]["p99"].get<double>());
   EXPECT_EQ(j["state_hash"].get<std::string>().size(), 16u);
-  EXPECT_GE(j["tunneling_events"].get<int>(), 0);
+  EXPECT_EQ(j["tunneling_events"].get<int>(), 0);  // a slow press: no vertex crosses the probe in a step
   // One header line and one line per step.
   std::ifstream csv(path("r.csv"));
   std::string line;

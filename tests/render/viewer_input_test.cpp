@@ -86,6 +86,35 @@ TEST(ViewerInput, ScriptsAreReadAndBadLinesNamed) {
   fails("0.05 move 1 1", ":2: times must not decrease");
   fails("0.2 down 7 1 1", ":2: down needs");
   fails("soon move 1 1", ":2: expected a time");
+  fails("f3 move 1 1", ":2: times must be all seconds or all frames");
+  std::filesystem::remove(file);
+}
+
+TEST(ViewerInput, FrameScriptsNameTheFrameBeforeWhichEachEventPlays) {
+  const auto file = std::filesystem::temp_directory_path() / "trocar_frame_events_test.txt";
+  {
+    std::ofstream f(file);
+    f << "f0 down 0 10 20\nf2 move 30 20\nf2 up 0 30 20\nf5 settle  # the runtime takes it in\n";
+  }
+  const auto events = read_injected_events(file.string());
+  ASSERT_EQ(events.size(), 4u);
+  EXPECT_EQ(events[0].frame, 0);
+  EXPECT_EQ(events[2].frame, 2);
+  EXPECT_EQ(events[3].frame, 5);
+  EXPECT_EQ(events[3].kind, "settle");
+  const auto fails = [&](const char* text, const char* says) {
+    { std::ofstream f(file); f << "f1 move 1 1\n" << text << "\n"; }
+    try {
+      read_injected_events(file.string());
+      ADD_FAILURE() << text;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(says), std::string::npos) << e.what();
+    }
+  };
+  fails("f0 move 1 1", ":2: times must not decrease");
+  fails("f1.5 move 1 1", ":2: expected a time in seconds or a frame fN");
+  fails("fx move 1 1", ":2: expected a time");
+  fails("0.5 move 1 1", ":2: times must be all seconds or all frames");
   std::filesystem::remove(file);
 }
 

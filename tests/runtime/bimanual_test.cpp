@@ -4,6 +4,7 @@
 
 #include <filesystem>
 
+#include "support/manual_clock.h"
 #include "trocar/device/scripted_device.h"
 #include "trocar/runtime/recording.h"
 #include "trocar/runtime/runtime.h"
@@ -32,11 +33,14 @@ TEST(Bimanual, TwoDevicesEachFeelTheirOwnSide) {
       std::filesystem::temp_directory_path() / ("trocar_bimanual_" + std::to_string(::getpid()) + ".trec");
   RuntimeSettings settings;
   settings.lockstep = true;
-  settings.duration = 0.5;
+  settings.duration = 0;  // until stopped, after 500 periods of the manual clock
   settings.realtime_scheduling = false;
+  test::ManualClock clock;
+  settings.clock = &clock;
   RecordingWriter writer(file, session_header("two-probes.json", kTwoProbes, sim, settings));
   Runtime runtime(sim, make_channels(devices, sim.world()), settings, &writer);
-  const RuntimeReport report = runtime.run();
+  const RuntimeReport report = test::run_for_periods(runtime, clock, 1, 500, 1000000);
+  EXPECT_EQ(report.ticks, 501u);  // 500 periods and the stopping one
   finish_recording(writer, sim);
   ASSERT_EQ(report.devices.size(), 2u);
   const Recording rec = read_recording(file, true);

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "trocar/core/cpu_features.h"
+#include "support/manual_clock.h"
 #include "trocar/core/error.h"
 #include "trocar/device/scripted_device.h"
 #include "trocar/runtime/recording.h"
@@ -444,11 +445,12 @@ void record_and_replay(bool lockstep) {
   const fs::path f = temp_file(lockstep ? "lockstep.trec" : "multirate.trec");
   RuntimeSettings settings;
   settings.lockstep = lockstep;
-  settings.duration = 0.8;
+  settings.duration = 0;  // until stopped, after 800 periods of the manual clock
   settings.realtime_scheduling = false;
+  test::ManualClock clock;
+  settings.clock = &clock;
   RecordingWriter writer(f, session_header(scene_file, read_scene_text(scene_file), sim, settings));
-  // The probe starts just above the lobe (its top is near z = 33 mm) and presses 13 mm in 0.3 s,
-  // so even a loaded machine that skips haptic slots steps well into contact.
+  // The probe starts just above the lobe (its top is near z = 33 mm) and presses 13 mm in 0.3 s.
   std::vector<RuntimeChannel> channels = make_channels(devices, sim.world());
   Keyframe start, pressed;
   start.position = Vec3(0, 0, 0.034);
@@ -456,9 +458,10 @@ void record_and_replay(bool lockstep) {
   pressed.position = Vec3(0, 0, 0.021);
   channels[0].device = std::make_unique<ScriptedDevice>(KeyframeMotion({start, pressed}));
   Runtime runtime(sim, std::move(channels), settings, &writer);
-  const RuntimeReport report = runtime.run();
+  const RuntimeReport report = test::run_for_periods(runtime, clock, lockstep ? 1 : 2, 800, 1000000);
   finish_recording(writer, sim);
-  EXPECT_GT(report.physics_steps, 100u);
+  EXPECT_EQ(report.ticks, 801u);  // 800 periods and the stopping one
+  EXPECT_GE(report.physics_steps, 800u);  // lock-step: one a tick; multirate: one a period (+ the stop's)
   EXPECT_EQ(report.recording_dropped, 0u);
   const ReplayResult r = replay_recording(f);
   EXPECT_EQ(r.steps, report.physics_steps);

@@ -211,9 +211,10 @@ void handle_key_action(Viewer& v, ViewerKey action) {
 
 void install_callbacks(GLFWwindow* window) {
   glfwSetMouseButtonCallback(window, [](GLFWwindow* w, int button, int action, int) {
+    ViewerInput& input = viewer_of(w)->input;
     double x = 0, y = 0;
-    glfwGetCursorPos(w, &x, &y);
-    viewer_of(w)->input.mouse_button(button, action == GLFW_PRESS, x, y, ImGui::GetIO().WantCaptureMouse);
+    if (!input.last_cursor(x, y)) glfwGetCursorPos(w, &x, &y);  // no cursor event yet
+    input.mouse_button(button, action == GLFW_PRESS, x, y, ImGui::GetIO().WantCaptureMouse);
   });
   glfwSetCursorPosCallback(window, [](GLFWwindow* w, double x, double y) { viewer_of(w)->input.cursor(x, y); });
   glfwSetScrollCallback(window, [](GLFWwindow* w, double, double dy) {
@@ -221,9 +222,33 @@ void install_callbacks(GLFWwindow* window) {
   });
   glfwSetKeyCallback(window, [](GLFWwindow* w, int key, int, int action, int) {
     if (action == GLFW_REPEAT || ImGui::GetIO().WantCaptureKeyboard) return;
+    if (key == GLFW_KEY_ESCAPE) {  // as the window's close button
+      glfwSetWindowShouldClose(w, GLFW_TRUE);
+      return;
+    }
     Viewer& v = *viewer_of(w);
     handle_key_action(v, v.input.key(glfw_key(key), action == GLFW_PRESS));
   });
+}
+
+/// A script's "settle": waits until the runtime has taken in the input so far, counted, not
+/// timed: two haptic ticks (the port command sensed and handed to physics), then 200 physics
+/// steps (the driven instrument reaches its commanded pose). Wall time only bounds it (30 s).
+void settle(Viewer& v) {
+  if (v.session->port) v.session->port->set(v.input.command());
+  const RuntimeLive& live = v.session->runtime->live();
+  const auto wait_for = [](const auto& done, const char* what) {
+    const auto limit = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+    while (!done()) {
+      if (std::chrono::steady_clock::now() > limit) throw Error(std::string("trocar view: settle: ") + what);
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+  };
+  const std::uint64_t ticks = live.ticks.load();
+  wait_for([&] { return live.ticks.load() >= ticks + 2; }, "the haptic loop did not tick twice within 30 s");
+  if (v.live.paused) return;  // paused physics takes the command at its next step
+  const std::uint64_t steps = live.physics_steps.load();
+  wait_for([&] { return live.physics_steps.load() >= steps + 200; }, "physics did not run 200 steps within 30 s");
 }
 
 void play(Viewer& v, const InjectedEvent& e) {
@@ -231,7 +256,7 @@ void play(Viewer& v, const InjectedEvent& e) {
     case 'd': v.input.mouse_button(e.button, true, e.x, e.y); break;
     case 'u': v.input.mouse_button(e.button, false, e.x, e.y); break;
     case 'm': v.input.cursor(e.x, e.y); break;
-    case 's': v.input.scroll(e.y); break;
+    case 's': e.kind == "settle" ? settle(v) : v.input.scroll(e.y); break;
     default: handle_key_action(v, v.input.key(e.key, e.kind == "key")); break;
   }
 }
@@ -262,16 +287,11 @@ Image read_window(int w, int h) {
 
 }  // namespace
 
-int run_viewer(const ViewerOptions& options) {
-  Viewer v;
-  v.options = options;
-  const std::string text = read_scene_text(options.scene);
-  parse_scene(text, options.scene.string(), options.scene.parent_path());  // a bad scene fails before a window opens
-  v.doc = nlohmann::json::parse(text);
-  v.edits = edits_from(v.doc, options.drive);
-  std::vector<InjectedEvent> events;
-  if (!options.inject.empty()) events = read_injected_events(options.inject.string());
+namespace {
 
+/// Opens the window with an OpenGL 3.3 core context, our input callbacks and ImGui.
+void open_window(Viewer& v) {
+  const ViewerOptions& options = v.options;
   keep_rendering_off_cpu(kHapticCpu);
   glfwSetErrorCallback([](int, const char* what) { std::fprintf(stderr, "trocar view: glfw: %s\n", what); });
   if (!glfwInit())
@@ -299,110 +319,41 @@ int run_viewer(const ViewerOptions& options) {
   ImGui::StyleColorsDark();
   ImGui_ImplGlfw_InitForOpenGL(v.window, true);
   ImGui_ImplOpenGL3_Init("#version 330");
+}
 
-  nlohmann::json report;
-  try {
-    v.start(false);
-    v.input.orbit = v.session->orbit;
-    const auto t0 = std::chrono::steady_clock::now();
-    auto last = t0;
-    std::size_t next_event = 0, frames = 0, fps_frames = 0;
-    double fps_since = 0;
-    std::uint64_t last_ticks = 0;
-    double last_tick_time = 0;
-    Vec3 start_position = Vec3::Zero(), end_position = Vec3::Zero();
-    bool have_start = false;
-    while (!glfwWindowShouldClose(v.window)) {
-      const double now = seconds_since(t0);
-      const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - last).count();
-      last = std::chrono::steady_clock::now();
+/// The frame loop and what it measures for the panel and the report.
+class FrameLoop {
+ public:
+  FrameLoop(Viewer& v, std::vector<InjectedEvent> events) : v_(v), events_(std::move(events)) {}
+
+  /// Draws frames until the window closes or a quit option says so.
+  void run() {
+    while (!glfwWindowShouldClose(v_.window)) {
+      const double now = seconds_since(t0_);
+      const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - last_).count();
+      last_ = std::chrono::steady_clock::now();
       glfwPollEvents();
-      while (next_event < events.size() && events[next_event].time <= now) play(v, events[next_event++]);
-      v.input.advance(dt);
-      if (v.input.take_changed() && v.session->port) v.session->port->set(v.input.command());
-
-      const ViewSnapshot& snap = v.session->view();
-      if (options.drive >= 0 && std::size_t(options.drive) < snap.instruments.size()) {
-        end_position = snap.instruments[std::size_t(options.drive)].pose.translation;
-        if (!have_start) start_position = end_position, have_start = true;
-      }
-      // Live figures.
-      const RuntimeLive& rl = v.session->runtime->live();
-      const std::uint64_t ticks = rl.ticks.load(std::memory_order_relaxed);
-      if (now - last_tick_time >= 0.25) {
-        v.live.haptic_rate_hz = double(ticks - std::min(ticks, last_ticks)) / (now - last_tick_time);
-        last_ticks = ticks;
-        last_tick_time = now;
-      }
-      v.live.deadline_miss_fraction = ticks ? double(rl.late_ticks.load(std::memory_order_relaxed)) / double(ticks) : 0;
-      const double run_s = double(std::chrono::steady_clock::now().time_since_epoch().count() -
-                                  rl.started_ns.load(std::memory_order_relaxed)) * 1e-9;
-      v.live.physics_rate_hz = run_s > 0 ? double(rl.physics_steps.load(std::memory_order_relaxed)) / run_s : 0;
-      v.live.sim_time = snap.time;
-      v.live.step_us.add(float(snap.timings.step));
-      v.live.broad_us.add(float(snap.timings.broad_phase));
-      v.live.narrow_us.add(float(snap.timings.narrow_phase));
-      v.live.response_us.add(float(snap.timings.response));
-      v.live.deformation_us.add(float(snap.timings.deformation));
-      v.live.haptic_khz.add(float(v.live.haptic_rate_hz * 1e-3));
-      v.live.frame_ms.add(float(dt * 1e3));
-      if (now - fps_since >= 0.5) {  // frames over the last half second
-        v.live.fps = double(frames - fps_frames) / (now - fps_since);
-        fps_frames = frames;
-        fps_since = now;
-      }
-      v.live.free_camera = v.input.free_camera;
-
-      int fw = 0, fh = 0;
-      glfwGetFramebufferSize(v.window, &fw, &fh);
-      v.renderer->draw(snap, v.camera(fw, fh), v.render, fw, fh);
-      ImGui_ImplOpenGL3_NewFrame();
-      ImGui_ImplGlfw_NewFrame();
-      ImGui::NewFrame();
-      PanelActions a;
-      if (options.panel) a = draw_panel(v.edits, v.render, v.live);
-      ImGui::Render();
-      ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
-      ++frames;
-      const bool quitting = options.quit_after > 0 && now >= options.quit_after;
-      if (a.screenshot || (quitting && !options.screenshot.empty())) {
-        const fs::path shot = quitting && !options.screenshot.empty() ? options.screenshot : fs::path("trocar-shot.png");
-        write_png(shot.c_str(), read_window(fw, fh));
-        v.live.status = "screenshot " + shot.string();
-      }
-      glfwSwapBuffers(v.window);
-      if (quitting) break;
-      try {
-        if (a.pause) handle_key_action(v, ViewerKey::kPause);
-        if (a.step) handle_key_action(v, ViewerKey::kStep);
-        if (a.camera) v.input.free_camera = !v.input.free_camera;
-        if (a.reset) v.start(false);
-        if (a.record) handle_key_action(v, ViewerKey::kRecord);
-        if (a.apply) {
-          nlohmann::json edited = v.doc;
-          apply_edits(edited, v.edits, options.drive);
-          std::swap(v.doc, edited);
-          try {
-            v.start(false);
-            v.live.status = "applied";
-          } catch (const Error&) {
-            std::swap(v.doc, edited);  // keep the scene that worked
-            throw;
-          }
-        }
-      } catch (const Error& e) {
-        v.live.status = e.what();  // a rejected edit: shown in the panel, the old scene runs on
-      }
+      take_input(now, dt);
+      const ViewSnapshot& snap = v_.session->view();
+      track_driven_instrument(snap);
+      update_live_figures(snap, now, dt);
+      const bool quitting = (v_.options.quit_after > 0 && now >= v_.options.quit_after) ||
+                            (v_.options.quit_after_frames > 0 && frames_ + 1 >= std::size_t(v_.options.quit_after_frames));
+      if (!draw_frame(snap, quitting)) break;
     }
-    const double wall = seconds_since(t0);
-    v.session->finish();
-    if (!v.session->recording.empty()) v.last_recording = v.session->recording;
-    const RuntimeReport& r = v.session->report;
-    report = {
-        {"scene", v.session->name},
-        {"frames", frames},
-        {"wall_time_s", wall},
-        {"fps", wall > 0 ? double(frames) / wall : 0},
+    wall_ = seconds_since(t0_);
+  }
+
+  /// The report's JSON, once the session has finished.
+  nlohmann::json report() const {
+    const ViewerOptions& options = v_.options;
+    const RuntimeReport& r = v_.session->report;
+    const PortCommand& c = v_.input.command();
+    return {
+        {"scene", v_.session->name},
+        {"frames", frames_},
+        {"wall_time_s", wall_},
+        {"fps", wall_ > 0 ? double(frames_) / wall_ : 0},
         {"size", {options.width, options.height}},
         {"samples", options.samples},
         {"renderer", std::string(reinterpret_cast<const char*>(glGetString(GL_RENDERER)))},
@@ -416,34 +367,171 @@ int run_viewer(const ViewerOptions& options) {
         {"physics", {{"steps", r.physics_steps}, {"rate_hz", r.physics_rate_hz}, {"step_us_median", r.physics.step.median()}}},
         {"driven_instrument",
          {{"index", options.drive},
-          {"device", v.session->device},
-          {"start", {start_position.x(), start_position.y(), start_position.z()}},
-          {"end", {end_position.x(), end_position.y(), end_position.z()}},
-          {"travel_m", (end_position - start_position).norm()},
-          {"command",
-           {{"yaw", v.input.command().yaw},
-            {"pitch", v.input.command().pitch},
-            {"depth", v.input.command().depth},
-            {"roll", v.input.command().roll},
-            {"jaw", v.input.command().jaw}}}}},
-        {"events_played", next_event},
-        {"last_recording", v.last_recording.string()},
+          {"device", v_.session->device},
+          {"start", {start_position_.x(), start_position_.y(), start_position_.z()}},
+          {"end", {end_position_.x(), end_position_.y(), end_position_.z()}},
+          {"travel_m", (end_position_ - start_position_).norm()},
+          {"command", {{"yaw", c.yaw}, {"pitch", c.pitch}, {"depth", c.depth}, {"roll", c.roll}, {"jaw", c.jaw}}}}},
+        {"events_played", next_event_},
+        {"last_recording", v_.last_recording.string()},
     };
+  }
+
+ private:
+  /// The script's events due by now (or by this frame), held keys, the command to the driver.
+  /// A frame script advances held keys by 1/60 s a frame, so that it needs no wall clock at all.
+  void take_input(double now, double dt) {
+    const bool by_frame = !events_.empty() && events_.front().frame >= 0;
+    while (next_event_ < events_.size() &&
+           (by_frame ? std::size_t(events_[next_event_].frame) <= frames_ : events_[next_event_].time <= now))
+      play(v_, events_[next_event_++]);
+    v_.input.advance(by_frame ? 1.0 / 60 : dt);
+    if (v_.input.take_changed() && v_.session->port) v_.session->port->set(v_.input.command());
+  }
+
+  void track_driven_instrument(const ViewSnapshot& snap) {
+    const int drive = v_.options.drive;
+    if (drive < 0 || std::size_t(drive) >= snap.instruments.size()) return;
+    end_position_ = snap.instruments[std::size_t(drive)].pose.translation;
+    if (!have_start_) start_position_ = end_position_, have_start_ = true;
+  }
+
+  /// The panel's rates (over the last quarter and half second), misses and timing plots.
+  void update_live_figures(const ViewSnapshot& snap, double now, double dt) {
+    PanelLive& live = v_.live;
+    const RuntimeLive& rl = v_.session->runtime->live();
+    const std::uint64_t ticks = rl.ticks.load(std::memory_order_relaxed);
+    if (now - last_tick_time_ >= 0.25) {
+      live.haptic_rate_hz = double(ticks - std::min(ticks, last_ticks_)) / (now - last_tick_time_);
+      last_ticks_ = ticks;
+      last_tick_time_ = now;
+    }
+    live.deadline_miss_fraction = ticks ? double(rl.late_ticks.load(std::memory_order_relaxed)) / double(ticks) : 0;
+    const double run_s = double(std::chrono::steady_clock::now().time_since_epoch().count() -
+                                rl.started_ns.load(std::memory_order_relaxed)) * 1e-9;
+    live.physics_rate_hz = run_s > 0 ? double(rl.physics_steps.load(std::memory_order_relaxed)) / run_s : 0;
+    live.sim_time = snap.time;
+    live.step_us.add(float(snap.timings.step));
+    live.broad_us.add(float(snap.timings.broad_phase));
+    live.narrow_us.add(float(snap.timings.narrow_phase));
+    live.response_us.add(float(snap.timings.response));
+    live.deformation_us.add(float(snap.timings.deformation));
+    live.haptic_khz.add(float(live.haptic_rate_hz * 1e-3));
+    live.frame_ms.add(float(dt * 1e3));
+    if (now - fps_since_ >= 0.5) {
+      live.fps = double(frames_ - fps_frames_) / (now - fps_since_);
+      fps_frames_ = frames_;
+      fps_since_ = now;
+    }
+    live.free_camera = v_.input.free_camera;
+  }
+
+  /// Draws the scene and the panel, takes a screenshot when asked, swaps; then carries out the
+  /// panel's actions. False when this was the last frame.
+  bool draw_frame(const ViewSnapshot& snap, bool quitting) {
+    const ViewerOptions& options = v_.options;
+    int fw = 0, fh = 0;
+    glfwGetFramebufferSize(v_.window, &fw, &fh);
+    v_.renderer->draw(snap, v_.camera(fw, fh), v_.render, fw, fh);
+    ImGui_ImplOpenGL3_NewFrame();
+    ImGui_ImplGlfw_NewFrame();
+    ImGui::NewFrame();
+    PanelActions a;
+    if (options.panel) a = draw_panel(v_.edits, v_.render, v_.live);
+    ImGui::Render();
+    ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+    ++frames_;
+    if (a.screenshot || (quitting && !options.screenshot.empty())) {
+      const fs::path shot = quitting && !options.screenshot.empty() ? options.screenshot : fs::path("trocar-shot.png");
+      write_png(shot.c_str(), read_window(fw, fh));
+      v_.live.status = "screenshot " + shot.string();
+    }
+    glfwSwapBuffers(v_.window);
+    if (quitting) return false;
+    apply_panel_actions(a);
+    return true;
+  }
+
+  /// Pause, step, camera, reset, record and Apply; a rejected edit is shown in the panel and the
+  /// old scene runs on.
+  void apply_panel_actions(const PanelActions& a) {
+    try {
+      if (a.pause) handle_key_action(v_, ViewerKey::kPause);
+      if (a.step) handle_key_action(v_, ViewerKey::kStep);
+      if (a.camera) v_.input.free_camera = !v_.input.free_camera;
+      if (a.reset) v_.start(false);
+      if (a.record) handle_key_action(v_, ViewerKey::kRecord);
+      if (a.apply) {
+        nlohmann::json edited = v_.doc;
+        apply_edits(edited, v_.edits, v_.options.drive);
+        std::swap(v_.doc, edited);
+        try {
+          v_.start(false);
+          v_.live.status = "applied";
+        } catch (const Error&) {
+          std::swap(v_.doc, edited);  // keep the scene that worked
+          throw;
+        }
+      }
+    } catch (const Error& e) {
+      v_.live.status = e.what();
+    }
+  }
+
+  Viewer& v_;
+  std::vector<InjectedEvent> events_;
+  std::chrono::steady_clock::time_point t0_ = std::chrono::steady_clock::now(), last_ = t0_;
+  std::size_t next_event_ = 0, frames_ = 0, fps_frames_ = 0;
+  double fps_since_ = 0, wall_ = 0;
+  std::uint64_t last_ticks_ = 0;
+  double last_tick_time_ = 0;
+  Vec3 start_position_ = Vec3::Zero(), end_position_ = Vec3::Zero();
+  bool have_start_ = false;
+};
+
+void write_report(const fs::path& file, const nlohmann::json& report) {
+  if (file.empty()) return;
+  std::ofstream out(file);
+  if (!out) throw Error(file.string() + ": cannot write the viewer report");
+  out << report.dump(2) << "\n";
+}
+
+void print_summary(const nlohmann::json& report) {
+  std::printf("view: %s, %zu frames in %.1f s (%.1f fps); haptic %.0f Hz, deadline misses %.3f %%\n",
+              report["scene"].get<std::string>().c_str(), report["frames"].get<std::size_t>(),
+              report["wall_time_s"].get<double>(), report["fps"].get<double>(),
+              report["haptic"]["rate_hz"].get<double>(), 100 * report["haptic"]["deadline_miss_fraction"].get<double>());
+}
+
+}  // namespace
+
+int run_viewer(const ViewerOptions& options) {
+  Viewer v;
+  v.options = options;
+  const std::string text = read_scene_text(options.scene);
+  parse_scene(text, options.scene.string(), options.scene.parent_path());  // a bad scene fails before a window opens
+  v.doc = nlohmann::json::parse(text);
+  v.edits = edits_from(v.doc, options.drive);
+  std::vector<InjectedEvent> events;
+  if (!options.inject.empty()) events = read_injected_events(options.inject.string());
+  open_window(v);
+  nlohmann::json report;
+  try {
+    v.start(false);
+    v.input.orbit = v.session->orbit;
+    FrameLoop loop(v, std::move(events));
+    loop.run();
+    v.session->finish();
+    if (!v.session->recording.empty()) v.last_recording = v.session->recording;
+    report = loop.report();
   } catch (...) {
     if (v.session) v.session->finish();
     close_window(v);
     throw;
   }
   close_window(v);
-  if (!options.report.empty()) {
-    std::ofstream out(options.report);
-    if (!out) throw Error(options.report.string() + ": cannot write the viewer report");
-    out << report.dump(2) << "\n";
-  }
-  std::printf("view: %s, %zu frames in %.1f s (%.1f fps); haptic %.0f Hz, deadline misses %.3f %%\n",
-              report["scene"].get<std::string>().c_str(), report["frames"].get<std::size_t>(),
-              report["wall_time_s"].get<double>(), report["fps"].get<double>(),
-              report["haptic"]["rate_hz"].get<double>(), 100 * report["haptic"]["deadline_miss_fraction"].get<double>());
+  write_report(options.report, report);
+  print_summary(report);
   return 0;
 }
 

@@ -19,6 +19,7 @@ struct ViewerOptions {
   double haptic_rate_hz = 1000;     ///< haptic loop rate
   int drive = 0;                    ///< instrument the mouse drives (−1: none, all scripted)
   double quit_after = 0;            ///< s of wall-clock time, then quit (0: run until closed)
+  int quit_after_frames = 0;        ///< frames drawn, then quit (0: no limit)
   std::filesystem::path screenshot; ///< PNG of the window written just before quitting
   std::filesystem::path report;     ///< JSON: frames, frame rate, haptic rate, misses, instrument travel
   std::filesystem::path inject;     ///< event script (viewer_input.h) played as if from the window

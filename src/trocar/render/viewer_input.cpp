@@ -1,6 +1,7 @@
 #include "trocar/render/viewer_input.h"
 
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <sstream>
 
@@ -20,6 +21,7 @@ void ViewerInput::cursor(double x, double y) {
   const double dx = x - x_, dy = y - y_;
   x_ = x;
   y_ = y;
+  have_cursor_ = true;
   if (free_camera) {
     if (left_) {
       orbit.yaw_deg -= dx * 0.3;
@@ -101,11 +103,15 @@ std::vector<InjectedEvent> read_injected_events(const std::string& file) {
     if (hash != std::string::npos) line.resize(hash);
     std::istringstream s(line);
     InjectedEvent e;
-    if (!(s >> e.time)) {
-      if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
-      throw Error(file + ":" + std::to_string(n) + ": expected a time in seconds first");
-    }
+    std::string when;
+    if (!(s >> when)) continue;  // blank
     const auto fail = [&](const std::string& why) { throw Error(file + ":" + std::to_string(n) + ": " + why); };
+    std::istringstream w(when[0] == 'f' ? when.substr(1) : when);
+    if (!(w >> e.time) || !(w >> std::ws).eof() || (when[0] == 'f' && (e.time < 0 || e.time != std::floor(e.time))))
+      fail("expected a time in seconds or a frame fN first");
+    if (when[0] == 'f') e.frame = static_cast<int>(e.time);
+    if (!events.empty() && (events.back().frame >= 0) != (e.frame >= 0))
+      fail("times must be all seconds or all frames (fN)");
     if (!(s >> e.kind)) fail("expected an event after the time");
     if (e.kind == "down" || e.kind == "up") {
       if (!(s >> e.button >> e.x >> e.y) || e.button < 0 || e.button > 2) fail(e.kind + " needs BUTTON(0-2) X Y");
@@ -116,8 +122,8 @@ std::vector<InjectedEvent> read_injected_events(const std::string& file) {
     } else if (e.kind == "key" || e.kind == "keyup") {
       std::string name;
       if (!(s >> name) || (e.key = viewer_key_from_name(name)) == ViewerKey::kOther) fail("unknown key \"" + name + "\"");
-    } else {
-      fail("unknown event \"" + e.kind + "\" (known: down, up, move, scroll, key, keyup)");
+    } else if (e.kind != "settle") {
+      fail("unknown event \"" + e.kind + "\" (known: down, up, move, scroll, key, keyup, settle)");
     }
     if (!events.empty() && e.time < events.back().time) fail("times must not decrease");
     events.push_back(e);

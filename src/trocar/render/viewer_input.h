@@ -26,6 +26,13 @@ class ViewerInput {
   /// button 0 left, 1 right, 2 middle; `over_panel`: the settings panel has the mouse.
   void mouse_button(int button, bool down, double x, double y, bool over_panel = false);
   void cursor(double x, double y);
+  /// The pointer's position as the last cursor event gave it (false before the first): the
+  /// window system's events arrive in order, and a press belongs where the pointer was then,
+  /// not where it is when a slow frame gets to it.
+  bool last_cursor(double& x, double& y) const {
+    x = x_, y = y_;
+    return have_cursor_;
+  }
   void scroll(double notches, bool over_panel = false);
   /// A key went down or up; returns the key's action for one-shot keys (pause, step, reset,
   /// record, camera) on the press, kOther otherwise.
@@ -51,14 +58,17 @@ class ViewerInput {
   bool changed_ = false;
   bool left_ = false, right_ = false;
   double x_ = 0, y_ = 0;
+  bool have_cursor_ = false;
   bool held_[int(ViewerKey::kOther) + 1] = {};
 };
 
-/// One injected event (`--inject FILE`: lines "T down|up|move|scroll|key|keyup ARGS", T in
-/// seconds since the viewer started; # comments).
+/// One injected event (`--inject FILE`: lines "T down|up|move|scroll|key|keyup|settle ARGS", T
+/// in seconds since the viewer started, or fN: before frame N is drawn (frame 0 first; a script's
+/// times are all one or all the other); # comments).
 struct InjectedEvent {
-  double time = 0;            ///< s
-  std::string kind;           ///< down, up, move, scroll, key, keyup
+  double time = 0;            ///< s (a frame script: the frame, as a number)
+  int frame = -1;             ///< ≥ 0: the frame it is played before (a frame script)
+  std::string kind;           ///< down, up, move, scroll, key, keyup, settle
   int button = 0;             ///< down/up: 0 left, 1 right
   double x = 0, y = 0;        ///< move/down/up: pixels; scroll: y notches
   ViewerKey key = ViewerKey::kOther;  ///< key/keyup

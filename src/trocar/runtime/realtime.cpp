@@ -8,6 +8,8 @@
 #include <cerrno>
 #include <cstring>
 
+#include "trocar/runtime/clock.h"
+
 namespace trocar {
 
 std::int64_t monotonic_ns() {
@@ -51,6 +53,19 @@ void wait_until(std::int64_t deadline_ns, std::int64_t spin_ns) {
   }
   while (monotonic_ns() < deadline_ns) {
   }
+}
+
+namespace {
+class SteadyClock final : public RuntimeClock {
+ public:
+  std::int64_t now_ns() override { return monotonic_ns(); }
+  void wait_until(std::int64_t deadline_ns, std::int64_t spin_ns) override { trocar::wait_until(deadline_ns, spin_ns); }
+};
+}  // namespace
+
+RuntimeClock& steady_clock() {
+  static SteadyClock clock;
+  return clock;
 }
 
 }  // namespace trocar

@@ -28,7 +28,8 @@ struct Runtime::Shared {
 
 Runtime::Runtime(Simulation& sim, std::vector<RuntimeChannel> channels, const RuntimeSettings& settings,
                  RecordingWriter* recorder)
-    : sim_(sim), channels_(std::move(channels)), settings_(settings), recorder_(recorder),
+    : sim_(sim), channels_(std::move(channels)), settings_(settings),
+      clock_(settings.clock ? *settings.clock : steady_clock()), recorder_(recorder),
       stepper_(sim, settings.stiffness_prior), shared_(std::make_unique<Shared>()) {
   const std::size_t n = sim.world().instruments.size();
   if (n > kMaxRuntimeInstruments)
@@ -98,8 +99,8 @@ void Runtime::haptic_thread() {
   std::uint64_t tick = 0;
   const std::int64_t spin = std::min(settings_.spin_ns, period_ns_ / 2);
   while (next < end_ns && !stop_requested_.load(std::memory_order_relaxed)) {
-    wait_until(next, spin);
-    const std::int64_t t0 = monotonic_ns();
+    clock_.wait_until(next, spin);
+    const std::int64_t t0 = clock_.now_ns();
     if (double(t0 - next) > 0.1 * double(period_ns_)) ++s.late_ticks;
     if (previous != 0) {
       const double period_us = double(t0 - previous) * 1e-3;
@@ -109,7 +110,7 @@ void Runtime::haptic_thread() {
     }
     previous = t0;
     haptic_tick(t0, period_s, record);
-    const std::int64_t t1 = monotonic_ns();
+    const std::int64_t t1 = clock_.now_ns();
     const double compute_us = double(t1 - t0) * 1e-3;
     report_.tick_us.add(compute_us);
     record.tick = tick++;
@@ -118,10 +119,10 @@ void Runtime::haptic_thread() {
     if (recorder_) recorder_->push_tick(record);
     next += period_ns_;
     // Behind by a whole period (a stall): skip the slots already past instead of a burst of
-    // back-to-back ticks, and count them as missed.
+    // back-to-back ticks, and count them as missed (those of the run: ticks + skipped = slots).
     while (next + period_ns_ < t1) {
       next += period_ns_;
-      ++s.skipped_slots;
+      if (next < end_ns) ++s.skipped_slots;
     }
     live_.ticks.store(tick, std::memory_order_relaxed);
     live_.late_ticks.store(s.late_ticks + s.skipped_slots, std::memory_order_relaxed);
@@ -144,31 +145,31 @@ void Runtime::physics_thread() {
   std::int64_t next = start_ns_;
   const auto view_ns = settings_.view_rate_hz > 0 ? static_cast<std::int64_t>(1e9 / settings_.view_rate_hz) : 0;
   std::int64_t next_view = start_ns_;
-  wait_until(start_ns_, 0);  // start with the haptic thread, not before
+  clock_.wait_until(start_ns_, 0);  // start with the haptic thread, not before
   while (!s.stop.load(std::memory_order_acquire)) {
     const bool hold = paused_.load(std::memory_order_acquire) && step_requests_.load(std::memory_order_acquire) == 0;
     if (hold) {  // paused: the haptic loop keeps rendering the last models
       next += step_ns;
-      wait_until(next, 0);
+      clock_.wait_until(next, 0);
       continue;
     }
     if (paused_.load(std::memory_order_relaxed)) step_requests_.fetch_sub(1, std::memory_order_acq_rel);
     s.commands.read(commands);
     models = stepper_.step(commands, dt, 0, record);
     live_.physics_steps.fetch_add(1, std::memory_order_relaxed);
-    if (view_ns > 0 && monotonic_ns() >= next_view) {
+    if (view_ns > 0 && clock_.now_ns() >= next_view) {
       capture_view(sim_, views_.back());
       views_.publish();
       next_view += view_ns;
-      if (next_view < monotonic_ns()) next_view = monotonic_ns() + view_ns;
+      if (next_view < clock_.now_ns()) next_view = clock_.now_ns() + view_ns;
     }
-    const std::int64_t now = monotonic_ns();
+    const std::int64_t now = clock_.now_ns();
     models.timestamp_ns = now;
     s.models.publish(models);
     record.time_ns = now - start_ns_;
     if (recorder_) recorder_->push_step(record);
     next += step_ns;
-    if (now < next) wait_until(next, 0);
+    if (now < next) clock_.wait_until(next, 0);
     else if (now > next + 5 * step_ns) next = now;  // fallen behind: run on, don't burst
   }
 }
@@ -179,7 +180,7 @@ RuntimeReport Runtime::run() {
     const std::string w = lock_memory();
     if (!w.empty()) report_.warnings.push_back(w);
   }
-  start_ns_ = monotonic_ns() + 20000000;  // 20 ms for the threads to start and take their CPUs
+  start_ns_ = clock_.now_ns() + 20000000;  // 20 ms for the threads to start and take their CPUs
   const std::uint64_t steps_before = sim_.metrics().step_index;
   const double sim_before = sim_.time();
   if (settings_.view_rate_hz > 0 && !settings_.lockstep)
@@ -194,7 +195,7 @@ RuntimeReport Runtime::run() {
   std::thread haptic([this] { haptic_thread(); });
   haptic.join();
   if (physics.joinable()) physics.join();
-  const std::int64_t end = monotonic_ns();
+  const std::int64_t end = clock_.now_ns();
   live_.running.store(false, std::memory_order_release);
   for (RuntimeChannel& c : channels_) c.device->close();
 
@@ -202,6 +203,7 @@ RuntimeReport Runtime::run() {
   RuntimeReport& r = report_;
   r.wall_time = double(end - start_ns_) * 1e-9;
   r.rate_hz = r.wall_time > 0 ? double(r.ticks) / r.wall_time : 0;
+  r.skipped_slots = s.skipped_slots;
   const double slots = double(r.ticks + s.skipped_slots);
   r.deadline_miss_fraction = slots > 0 ? double(s.late_ticks + s.skipped_slots) / slots : 0;
   r.jitter_us_p99 = r.jitter_us.p99();

@@ -12,6 +12,7 @@
 
 #include "trocar/core/triple_buffer.h"
 #include "trocar/device/device.h"
+#include "trocar/runtime/clock.h"
 #include "trocar/runtime/haptic_channel.h"
 #include "trocar/runtime/histogram.h"
 #include "trocar/runtime/physics_stepper.h"
@@ -25,7 +26,7 @@ namespace trocar {
 struct RuntimeSettings {
   Real haptic_rate_hz = 1000;   ///< 1, 4 or 10 kHz in practice
   bool lockstep = false;        ///< physics inside the haptic tick, dt = the haptic period
-  Real duration = 1;            ///< s of wall-clock time to run; ≤ 0 = until request_stop()
+  Real duration = 1;            ///< s to run on the clock (wall time by default); ≤ 0 = until request_stop()
   Real physics_timestep = 1e-3; ///< s per physics step (multirate; the scene's timestep)
   bool realtime_scheduling = true;  ///< try SCHED_FIFO and CPU pinning (warn when refused)
   bool lock_memory = false;     ///< mlockall before starting
@@ -40,6 +41,8 @@ struct RuntimeSettings {
   /// Multirate: the physics thread publishes a ViewSnapshot to Runtime::views() at most this
   /// often (Hz; 0 = never), for a renderer on another thread.
   Real view_rate_hz = 0;
+  /// The time the loops read and wait on (nullptr: the steady clock). It must outlive run().
+  RuntimeClock* clock = nullptr;
 };
 
 /// What the runtime is doing now, readable from any thread while it runs (relaxed atomics the
@@ -48,7 +51,7 @@ struct RuntimeLive {
   std::atomic<std::uint64_t> ticks{0};          ///< haptic ticks so far
   std::atomic<std::uint64_t> late_ticks{0};     ///< ticks > 10 % of a period late, plus skipped slots
   std::atomic<std::uint64_t> physics_steps{0};  ///< physics steps so far
-  std::atomic<std::int64_t> started_ns{0};      ///< steady-clock start of the loops
+  std::atomic<std::int64_t> started_ns{0};      ///< start of the loops on the runtime's clock
   std::atomic<bool> running{false};             ///< between the start and the join of the loops
 };
 
@@ -71,6 +74,7 @@ struct DeviceReport {
 /// What a run measured (the report's `haptic` section, docs/runtime.md "Performance monitor").
 struct RuntimeReport {
   std::uint64_t ticks = 0;                 ///< haptic ticks run
+  std::uint64_t skipped_slots = 0;         ///< periods passed over after a stall (ticks + these = the run's periods)
   double rate_hz = 0;                      ///< achieved tick rate
   double deadline_miss_fraction = 0;       ///< ticks that started > 10 % of a period late
   double jitter_us_p99 = 0;                ///< p99 of |period − nominal| (µs)
@@ -100,11 +104,11 @@ class Runtime {
   Runtime& operator=(const Runtime&) = delete;
   ~Runtime();
 
-  /// Opens the devices, runs for settings.duration of wall-clock time (or until
+  /// Opens the devices, runs for settings.duration of the clock's time (or until
   /// request_stop()), joins, closes them.
   RuntimeReport run();
 
-  /// Ends run() from another thread (within a haptic period).
+  /// Ends run() from another thread (the haptic loop ends after at most one more tick).
   void request_stop() { stop_requested_.store(true, std::memory_order_release); }
   /// Multirate: while paused the physics thread does not step (the haptic loop runs on the last
   /// contact models); step_once() then runs exactly one step.
@@ -125,6 +129,7 @@ class Runtime {
   std::vector<RuntimeChannel> channels_;
   std::vector<HapticChannel> haptic_;
   RuntimeSettings settings_;
+  RuntimeClock& clock_;
   RecordingWriter* recorder_;
   PhysicsStepper stepper_;
   std::int64_t start_ns_ = 0;
