@@ -54,7 +54,7 @@ class ProjectionResponse final : public PenaltyResponse {
  public:
   ProjectionResponse(const ResponseTissue& tissue, std::span<const ResponseInstrument> instruments,
                      const ResponseSettings& settings)
-      : PenaltyResponse(tissue, instruments, settings), settings_(settings), projectors_(instruments.size()) {
+      : PenaltyResponse(tissue, instruments, settings), projectors_(instruments.size()) {
     for (std::size_t i = 0; i < instruments.size(); ++i) {
       projectors_[i].reset(tissue.settings->vertex_count(), tissue.settings->triangles,
                            instruments[i].instrument->world_positions().size());
@@ -72,7 +72,7 @@ class ProjectionResponse final : public PenaltyResponse {
       const ResponseInstrument& in = instruments_[i];
       const ProjectionStats stats =
           projectors_[i].project(*in.instrument, *in.field, contacts, static_cast<std::uint32_t>(i), tissue_.object,
-                                 solvers_[i].grasp(), view, in.thickness, dt, settings_);
+                                 solvers_[i].grasp(), view, in.thickness, dt, solvers_[i].settings());
       loads[i].raw_force += stats.force;
       loads[i].raw_torque += stats.torque;
     }
@@ -84,7 +84,6 @@ class ProjectionResponse final : public PenaltyResponse {
   }
 
  private:
-  ResponseSettings settings_;
   std::vector<ContactProjector> projectors_;  ///< per instrument
 };
 
