@@ -139,6 +139,7 @@ void read_tissue(const JsonReader& t, std::size_t index, Scene& scene, const std
     if (file_mesh.texcoords.empty()) tex.fail("the mesh has no texture coordinates (OBJ vt, PLY u/v) to map it with");
   }
   scene.textures.push_back(std::move(texture));
+  scene.tissue_appearance.emplace_back();
 }
 
 KeyframeMotion read_motion(const JsonReader& m) {
@@ -240,6 +241,7 @@ void read_instrument(const JsonReader& r, std::size_t index, Scene& scene, const
 void read_rigid(const JsonReader& r, std::size_t index, Scene& scene, const std::filesystem::path& dir) {
   r.expect_keys({"name", "mesh", "scale", "translate", "rotate_deg", "repair"});
   scene.world.add_rigid(name_or(r, "rigid", index), placed_mesh(r, dir));
+  scene.rigid_appearance.emplace_back();
 }
 
 void read_collision(const JsonReader& c, Scene& scene) {

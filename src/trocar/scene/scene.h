@@ -1,11 +1,14 @@
 #pragma once
 /// Scene files (JSON, schema 1, docs/scene.md) → a World and its settings.
 #include <filesystem>
+#include <map>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "trocar/core/types.h"
+#include "trocar/geometry/zone.h"
+#include "trocar/scene/appearance.h"
 #include "trocar/scene/camera_spec.h"
 #include "trocar/scene/device_spec.h"
 #include "trocar/sim/simulation.h"
@@ -32,6 +35,13 @@ struct Scene {
   /// Per tissue (same index): its "texture" image (PNG, resolved against the scene's folder), or
   /// empty for the renderer's procedural tissue texture. Used only where the mesh has UVs.
   std::vector<std::filesystem::path> textures;
+  /// Per tissue and per rigid (same index): how it looks ("appearance", or the anatomy's).
+  std::vector<Appearance> tissue_appearance;
+  std::vector<Appearance> rigid_appearance;
+  /// Named regions a trainee must not injure ("zones", or the anatomy's).
+  std::vector<NamedZone> zones;
+  /// Named points of the anatomy (m): where tacks belong, the defect's centre, the wall's plane...
+  std::map<std::string, Vec3> landmarks;
 };
 
 /// Reads and validates a scene file. Every key is checked: an unknown key, a wrong type, a

@@ -91,6 +91,9 @@ Simulation::Simulation(World world, const SimulationSettings& settings)
   }
   loads_.resize(ni);
   instrument_metrics_.resize(ni);
+  std::vector<ContactTissue> contact_tissues;
+  for (const auto& tissue : world_.tissues) contact_tissues.push_back({&tissue->settings, &tissue->state});
+  tissue_contact_ = std::make_unique<TissueContactSolver>(std::move(contact_tissues), settings_.tissue_contacts);
   meter_ = std::make_unique<PenetrationMeter>(world_, settings_.measure_penetration);
   contacts_.reserve(1024);
 }
@@ -183,6 +186,7 @@ void Simulation::respond() {
 
 void Simulation::deform(Real dt) {
   ResponseTally tally;
+  tissue_contact_->begin_step();
   for (std::size_t t = 0; t < world_.tissues.size(); ++t) {
     TissueBody& tissue = *world_.tissues[t];
     const StepStats stats = tissue.integrator.step(tissue.state, tissue.loads, dt);
@@ -192,6 +196,7 @@ void Simulation::deform(Real dt) {
     metrics_.constraint_error = std::max(metrics_.constraint_error, stats.constraint_error);
     responses_[t]->after_integration(contacts_, dt, loads_, tally);
   }
+  tissue_contact_->solve(dt, time_);
   metrics_.contacts += tally.contacts;
   metrics_.contacts_applied += tally.applied;
   metrics_.timings.projection = tally.after_us;

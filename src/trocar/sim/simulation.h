@@ -13,6 +13,7 @@
 #include "trocar/response/instrument_field.h"
 #include "trocar/response/response_solver.h"
 #include "trocar/response/settings.h"
+#include "trocar/response/tissue_contact.h"
 #include "trocar/response/tissue_response.h"
 #include "trocar/sim/penetration_meter.h"
 #include "trocar/sim/world.h"
@@ -28,6 +29,9 @@ struct SimulationSettings {
   Real collision_period = 0;
   ResponseSettings response;      ///< method, gains, clamp
   bool measure_penetration = true;  ///< compute penetration and tunneling metrics each step
+  /// Tissue pairs whose surfaces must not cross (scene key "tissue_contacts"); empty: none, and the
+  /// step does no tissue–tissue work.
+  std::vector<TissueContactPair> tissue_contacts;
 };
 
 /// Wall-clock time of each stage of the last step (µs).
@@ -120,6 +124,13 @@ class Simulation {
   std::uint64_t state_hash() const;
   /// Tissue t's collision response (its own contact points, for display).
   const TissueResponse& response(std::size_t t) const { return *responses_[t]; }
+  /// Fixes two tissue surface points together (a tack); returns the attachment's index, or
+  /// SIZE_MAX when it cannot (capacity full, bad tissue or triangle). No allocation.
+  std::size_t attach(const AttachmentSpec& spec) { return tissue_contact_->attach(spec); }
+  /// Every attachment made so far, holding or torn.
+  std::span<const AttachmentState> attachments() const { return tissue_contact_->attachments(); }
+  /// The tissue–tissue contact solver (its pairs and last counts).
+  const TissueContactSolver& tissue_contact() const { return *tissue_contact_; }
   /// The collision detector (its timings and, for OHC, the last detection's counts).
   const CollisionDetector& detector() const { return detector_; }
 
@@ -138,6 +149,7 @@ class Simulation {
   std::vector<std::unique_ptr<TissueResponse>> responses_;  ///< per tissue
   std::vector<InstrumentLoad> loads_;        ///< per instrument: this step's raw load, then clamped
   std::vector<InstrumentMetrics> instrument_metrics_;
+  std::unique_ptr<TissueContactSolver> tissue_contact_;  ///< tissue pairs and attachments
   std::unique_ptr<PenetrationMeter> meter_;  ///< penetration and tunneling (settings.measure_penetration)
   /// Per instrument: the pose and jaw commanded from outside, used instead of the keyframes.
   struct Command {
