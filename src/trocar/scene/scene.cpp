@@ -9,6 +9,7 @@
 #include "trocar/core/pose.h"
 #include "trocar/mesh/renumber.h"
 #include "trocar/mesh/repair.h"
+#include "trocar/scene/action_keys.h"
 #include "trocar/scene/json_reader.h"
 #include "trocar/scene/mesh_source.h"
 #include "trocar/tissue/material.h"
@@ -210,7 +211,7 @@ DeviceSpec read_device(const JsonReader& d, const std::filesystem::path& dir) {
 
 void read_instrument(const JsonReader& r, std::size_t index, Scene& scene, const std::filesystem::path& dir) {
   r.expect_keys({"name", "mesh", "scale", "translate", "rotate_deg", "repair", "top_vertex", "shaft_direction",
-                 "jaw_triangles", "motion", "device"});
+                 "jaw_triangles", "motion", "device", "port"});
   const std::string name = name_or(r, "instrument", index);
   TriMesh mesh = placed_mesh(r, dir);
   const std::size_t nv = mesh.vertex_count();
@@ -234,7 +235,10 @@ void read_instrument(const JsonReader& r, std::size_t index, Scene& scene, const
   DeviceSpec device;
   if (r.has("device")) device = read_device(r.at("device"), dir);
   KeyframeMotion motion = r.has("motion") ? read_motion(r.at("motion")) : KeyframeMotion{};
-  scene.world.add_instrument(name, std::move(instrument), std::move(motion));
+  InstrumentBody& body = scene.world.add_instrument(name, std::move(instrument), std::move(motion));
+  if (r.has("port")) body.port = r.at("port").string();
+  const JsonReader source = r.at("mesh");
+  if (source.is_object() && source.has("generate")) body.tool = source.at("generate").string();
   scene.devices.push_back(std::move(device));
 }
 
@@ -366,7 +370,7 @@ Scene parse_scene(std::string_view text, const std::string& file, const std::fil
   }
   const JsonReader root(doc, file);
   root.expect_keys({"schema", "name", "timestep", "duration", "gravity", "tissues", "instruments", "rigids",
-                    "collision", "response", "camera"});
+                    "collision", "response", "camera", "events"});
   Scene scene;
   root.at("schema").integer(kSceneSchema, kSceneSchema);
   scene.name = root.string_or("name", std::filesystem::path(file).stem().string());
@@ -385,6 +389,7 @@ Scene parse_scene(std::string_view text, const std::string& file, const std::fil
   each("instruments", read_instrument);
   each("rigids", read_rigid);
   if (root.has("camera")) read_cameras(root.at("camera"), scene);
+  if (root.has("events")) scene.actions = read_actions(root.at("events"), scene.world);
   return scene;
 }
 

@@ -8,6 +8,7 @@
 
 #include "trocar/core/types.h"
 #include "trocar/geometry/zone.h"
+#include "trocar/procedure/actions.h"
 #include "trocar/scene/appearance.h"
 #include "trocar/scene/camera_spec.h"
 #include "trocar/scene/device_spec.h"
@@ -42,6 +43,8 @@ struct Scene {
   std::vector<NamedZone> zones;
   /// Named points of the anatomy (m): where tacks belong, the defect's centre, the wall's plane...
   std::map<std::string, Vec3> landmarks;
+  /// Scripted actions ("events"): fire the tacker, exchange an instrument, at given times.
+  std::vector<ScriptedAction> actions;
 };
 
 /// Reads and validates a scene file. Every key is checked: an unknown key, a wrong type, a
