@@ -83,8 +83,10 @@ NamedZone zone_on_wall(std::string name, const std::vector<Vec2>& corners, Real 
   return zone;
 }
 
-/// A strip of half-width w round a polyline (xy), as a polygon.
-std::vector<Vec2> strip(const std::vector<Vec2>& line, Real w) {
+/// A strip of half-width w round a polyline (xy), as a polygon, reaching w past either end.
+std::vector<Vec2> strip(std::vector<Vec2> line, Real w) {
+  line.front() -= w * (line[1] - line[0]).normalized();
+  line.back() += w * (line.back() - line[line.size() - 2]).normalized();
   std::vector<Vec2> left, right;
   for (std::size_t i = 0; i < line.size(); ++i) {
     const Vec2 d = (line[std::min(i + 1, line.size() - 1)] - line[i == 0 ? 0 : i - 1]).normalized();
@@ -424,7 +426,7 @@ InguinalAnatomy make_tapp_anatomy(HerniaKind kind, const TappOptions& o) {
     const Vec2 d = (eia1 - eia0).normalized();
     const Vec2 lateral(d.y(), -d.x());
     out.zones.push_back(zone_on_wall("iliac_vessels",
-                                     {eiv0 - 0.008 * lateral, eia0 + 0.008 * lateral, eia1 + 0.008 * lateral + 0.004 * d,
+                                     {eiv0 - 0.008 * lateral - 0.004 * d, eia0 + 0.008 * lateral - 0.004 * d, eia1 + 0.008 * lateral + 0.004 * d,
                                       eiv1 - 0.008 * lateral + 0.004 * d},
                                      0.006, 0.010));
   }
