@@ -39,8 +39,9 @@ TEST(AnatomyScene, ExpandsIntoTissuesRigidsZonesLandmarksAndAppearances) {
     EXPECT_EQ(s.landmarks.count(name), 1u) << name;
   // Cooper's ligament: every vertex fixed (renumbering keeps the count).
   for (const auto& t : s.world.tissues)
-    if (t->name == "coopers_ligament")
+    if (t->name == "coopers_ligament") {
       for (std::uint8_t f : t->settings.fixed) EXPECT_EQ(f, 1);
+    }
 }
 
 TEST(AnatomyScene, DirectVariantAndAppearanceKey) {
