@@ -10,6 +10,7 @@
 #include "trocar/mesh/renumber.h"
 #include "trocar/mesh/repair.h"
 #include "trocar/scene/action_keys.h"
+#include "trocar/scene/anatomy_scene.h"
 #include "trocar/scene/json_reader.h"
 #include "trocar/scene/mesh_source.h"
 #include "trocar/tissue/material.h"
@@ -108,7 +109,7 @@ IntegratorKind read_integrator(const JsonReader& obj) {
 
 void read_tissue(const JsonReader& t, std::size_t index, Scene& scene, const std::filesystem::path& dir) {
   t.expect_keys({"name", "mesh", "scale", "translate", "rotate_deg", "repair", "material", "fixed", "integrator",
-                 "substeps", "texture"});
+                 "substeps", "texture", "appearance"});
   const std::string name = name_or(t, "tissue", index);
   const TriMesh file_mesh = placed_mesh(t, dir);
   const MassSpringMaterial material = t.has("material") ? read_material(t.at("material")) : MassSpringMaterial{};
@@ -140,7 +141,7 @@ void read_tissue(const JsonReader& t, std::size_t index, Scene& scene, const std
     if (file_mesh.texcoords.empty()) tex.fail("the mesh has no texture coordinates (OBJ vt, PLY u/v) to map it with");
   }
   scene.textures.push_back(std::move(texture));
-  scene.tissue_appearance.emplace_back();
+  scene.tissue_appearance.push_back(t.has("appearance") ? read_appearance(t.at("appearance")) : Appearance{});
 }
 
 KeyframeMotion read_motion(const JsonReader& m) {
@@ -243,9 +244,9 @@ void read_instrument(const JsonReader& r, std::size_t index, Scene& scene, const
 }
 
 void read_rigid(const JsonReader& r, std::size_t index, Scene& scene, const std::filesystem::path& dir) {
-  r.expect_keys({"name", "mesh", "scale", "translate", "rotate_deg", "repair"});
+  r.expect_keys({"name", "mesh", "scale", "translate", "rotate_deg", "repair", "appearance"});
   scene.world.add_rigid(name_or(r, "rigid", index), placed_mesh(r, dir));
-  scene.rigid_appearance.emplace_back();
+  scene.rigid_appearance.push_back(r.has("appearance") ? read_appearance(r.at("appearance")) : Appearance{});
 }
 
 void read_collision(const JsonReader& c, Scene& scene) {
@@ -370,7 +371,7 @@ Scene parse_scene(std::string_view text, const std::string& file, const std::fil
   }
   const JsonReader root(doc, file);
   root.expect_keys({"schema", "name", "timestep", "duration", "gravity", "tissues", "instruments", "rigids",
-                    "collision", "response", "camera", "events"});
+                    "collision", "response", "camera", "events", "anatomy"});
   Scene scene;
   root.at("schema").integer(kSceneSchema, kSceneSchema);
   scene.name = root.string_or("name", std::filesystem::path(file).stem().string());
@@ -385,6 +386,7 @@ Scene parse_scene(std::string_view text, const std::string& file, const std::fil
     const JsonReader list = root.at(key);
     for (std::size_t i = 0; i < list.array_size(); ++i) read(list.at(i), i, scene, dir);
   };
+  if (root.has("anatomy")) read_anatomy(root.at("anatomy"), scene);  // its tissues and rigids come first
   each("tissues", read_tissue);
   each("instruments", read_instrument);
   each("rigids", read_rigid);
