@@ -145,11 +145,18 @@ void TissueContactSolver::project_contact(Candidate& c) {
     direction = c.side * n;
     distance = direction.dot(p - a);
   } else {
-    // Beyond an edge or a corner: keep the gap to the nearest feature (no side to cross here).
+    // Beyond an edge or a corner: keep the gap to the nearest feature, on the remembered side
+    // of the plane (a vertex that went through a crease between two triangles ends beyond both
+    // of their edges; without the side it would be pushed on through).
     const Vec3 d = p - q.point;
     distance = d.norm();
-    if (distance >= c.thickness || distance == 0) return;
+    if (distance == 0) return;
     direction = d / distance;
+    if (c.side * n.dot(d) < 0) {
+      direction = -direction;
+      distance = -distance;
+    }
+    if (distance >= c.thickness) return;
   }
   const Real violation = c.thickness - distance;
   if (violation <= 0) return;
