@@ -11,6 +11,7 @@
 #include "trocar/mesh/repair.h"
 #include "trocar/scene/action_keys.h"
 #include "trocar/scene/anatomy_scene.h"
+#include "trocar/scene/contact_keys.h"
 #include "trocar/scene/json_reader.h"
 #include "trocar/scene/mesh_source.h"
 #include "trocar/tissue/material.h"
@@ -109,7 +110,7 @@ IntegratorKind read_integrator(const JsonReader& obj) {
 
 void read_tissue(const JsonReader& t, std::size_t index, Scene& scene, const std::filesystem::path& dir) {
   t.expect_keys({"name", "mesh", "scale", "translate", "rotate_deg", "repair", "material", "fixed", "integrator",
-                 "substeps", "texture", "appearance"});
+                 "substeps", "texture", "appearance", "roll"});
   const std::string name = name_or(t, "tissue", index);
   const TriMesh file_mesh = placed_mesh(t, dir);
   const MassSpringMaterial material = t.has("material") ? read_material(t.at("material")) : MassSpringMaterial{};
@@ -133,6 +134,7 @@ void read_tissue(const JsonReader& t, std::size_t index, Scene& scene, const std
   } catch (const Error& e) {
     t.fail(e.what());
   }
+  if (t.has("roll")) read_tissue_roll(t.at("roll"), *scene.world.tissues.back());  // contact_keys.h
   std::filesystem::path texture;
   if (t.has("texture")) {
     const JsonReader tex = t.at("texture");
@@ -371,7 +373,7 @@ Scene parse_scene(std::string_view text, const std::string& file, const std::fil
   }
   const JsonReader root(doc, file);
   root.expect_keys({"schema", "name", "timestep", "duration", "gravity", "tissues", "instruments", "rigids",
-                    "collision", "response", "camera", "events", "anatomy"});
+                    "collision", "response", "camera", "events", "anatomy", "tissue_contacts"});
   Scene scene;
   root.at("schema").integer(kSceneSchema, kSceneSchema);
   scene.name = root.string_or("name", std::filesystem::path(file).stem().string());
@@ -390,6 +392,7 @@ Scene parse_scene(std::string_view text, const std::string& file, const std::fil
   each("tissues", read_tissue);
   each("instruments", read_instrument);
   each("rigids", read_rigid);
+  if (root.has("tissue_contacts")) read_tissue_contacts(root.at("tissue_contacts"), scene);  // contact_keys.h
   if (root.has("camera")) read_cameras(root.at("camera"), scene);
   if (root.has("events")) scene.actions = read_actions(root.at("events"), scene.world);
   return scene;
