@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "mesh_on_wall_scene.h"
+#include "trocar/core/error.h"
 #include "trocar/mesh/generate.h"
 #include "trocar/scene/scene.h"
 #include "trocar/sim/simulation.h"
