@@ -11,6 +11,7 @@
 #include "trocar/mesh/repair.h"
 #include "trocar/scene/json_reader.h"
 #include "trocar/scene/mesh_source.h"
+#include "trocar/scene/task_keys.h"
 #include "trocar/tissue/material.h"
 
 namespace trocar {
@@ -366,7 +367,7 @@ Scene parse_scene(std::string_view text, const std::string& file, const std::fil
   }
   const JsonReader root(doc, file);
   root.expect_keys({"schema", "name", "timestep", "duration", "gravity", "tissues", "instruments", "rigids",
-                    "collision", "response", "camera"});
+                    "collision", "response", "camera", "zones", "landmarks", "task"});
   Scene scene;
   root.at("schema").integer(kSceneSchema, kSceneSchema);
   scene.name = root.string_or("name", std::filesystem::path(file).stem().string());
@@ -385,6 +386,7 @@ Scene parse_scene(std::string_view text, const std::string& file, const std::fil
   each("instruments", read_instrument);
   each("rigids", read_rigid);
   if (root.has("camera")) read_cameras(root.at("camera"), scene);
+  read_task_keys(root, scene);  // last: the task's names are checked against everything above
   return scene;
 }
 
