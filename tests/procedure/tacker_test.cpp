@@ -81,7 +81,7 @@ TEST(Tacker, TissueOnlyMeshOnlyAndNothingAttachNothing) {
   const std::vector<Case> cases = {
       {Vec3(0.052, 0.0, 0.001), TackOutcome::kTissueOnly, kWall},   // 7 mm beyond the mesh's edge
       {Vec3(0.01, 0.01, 0.0025), TackOutcome::kMeshOnly, kNoIndex},    // mesh 1.5 mm, wall 2.5 mm away
-      {Vec3(0.01, 0.01, 0.01), TackOutcome::kNothing, kNoIndex},       // 9 mm above the mesh
+      {Vec3(-0.03, -0.03, 0.01), TackOutcome::kNothing, kNoIndex},     // 9 mm above the mesh
       {Vec3(0.2, 0.2, 0.0), TackOutcome::kNothing, kNoIndex},          // beside everything
   };
   for (const Case& c : cases) {
