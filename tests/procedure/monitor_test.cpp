@@ -101,7 +101,8 @@ TEST(Monitors, NoZoneEventBelowTheForce) {
 /// The shipped grasp-and-lift scene with its lobe named `lobe` (a vessel when listed as one) on the
 /// implicit integrator (the penalty response's grasp holds 5 vertices there): the jaws close on it
 /// at t = 0.6–0.9 s.
-std::string grasp_scene(const std::string& vessels) {
+std::string grasp_scene(const std::string& vessels, const std::string& mesh = "mesh",
+                        const std::string& last_keyframe = R"({ "t": 1.0, "position": [0.02, 0, 0.03], "jaw": 1 })") {
   return std::string(R"({
   "schema": 1, "name": "grasp", "timestep": 0.001, "duration": 1.0, "gravity": [0, 0, -9.81],
   "tissues": [{
@@ -116,11 +117,11 @@ std::string grasp_scene(const std::string& vessels) {
     "jaw_triangles": [0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20, 21, 22, 23],
     "motion": { "keyframes": [
       { "t": 0.0, "position": [0.02, 0, 0.045], "jaw": 0 }, { "t": 0.6, "position": [0.02, 0, 0.025], "jaw": 0 },
-      { "t": 0.9, "position": [0.02, 0, 0.025], "jaw": 1 }, { "t": 1.0, "position": [0.02, 0, 0.03], "jaw": 1 } ] } }],
+      { "t": 0.9, "position": [0.02, 0, 0.025], "jaw": 1 }, )" + last_keyframe + R"( ] } }],
   "collision": { "broad_phase": "ohc", "cell_size": "auto", "period": 0.001 },
   "response": { "method": "obb", "stiffness": 2000, "damping": 5, "max_force": 10 },
   )" + kLandmarks + R"(,
-  "task": {"sac": "sac", "mesh": "mesh", "vessels": )" +
+  "task": {"sac": "sac", "mesh": ")" + mesh + R"(", "vessels": )" +
          vessels + R"(}
 })";
 }
@@ -143,6 +144,40 @@ TEST(Monitors, AVesselHeldByClosedJawsIsOneEvent) {
   EXPECT_GT(held, 0u);
   EXPECT_EQ(vessel_events("[]", held), 0u);
   EXPECT_GT(held, 0u);
+}
+
+TEST(Monitors, TheMeshFallingThreeCentimetresAfterItIsLetGoOfIsDropped) {
+  // The lobe stands in for the mesh: grasped at 0.9 s, let go of as the jaws open (0.9 → 1.0 s).
+  // Its fixed base keeps it in place, so the fall is imposed by hand after the release.
+  Scene scene = parse_scene(grasp_scene("[]", "lobe", R"({ "t": 1.0, "position": [0.02, 0, 0.025], "jaw": 0 })"),
+                            "drop.json", ".");
+  scene.duration = 1.05;
+  Simulation sim = make_simulation(scene);
+  Procedure p(*scene.task, sim.world(), scene.zones, scene.landmarks);
+  std::size_t held_max = 0;
+  drive(sim, scene.timestep, step_count(scene.duration, scene.timestep), [&](const StepMetrics&) {
+    p.update(sim);
+    held_max = std::max(held_max, sim.response(0).held_vertices(0));
+  });
+  ASSERT_GT(held_max, 0u);
+  ASSERT_EQ(sim.response(0).held_vertices(0), 0u);
+  const auto drops = [&] {
+    std::size_t n = 0;
+    for (const TaskEvent& e : p.events()) n += e.kind == TaskEventKind::kMeshDropped ? 1 : 0;
+    return n;
+  };
+  EXPECT_EQ(drops(), 0u);
+  auto& x = sim.world().tissues[0]->state.positions;
+  for (Vec3& v : x) v.z() -= 0.02;  // 2 cm: not yet
+  p.update(sim);
+  EXPECT_EQ(drops(), 0u);
+  for (Vec3& v : x) v.z() -= 0.015;  // 3.5 cm below where it was let go of
+  p.update(sim);
+  EXPECT_EQ(drops(), 1u);
+  for (Vec3& v : x) v.z() -= 0.05;  // falling further is the same drop
+  p.update(sim);
+  EXPECT_EQ(drops(), 1u);
+  EXPECT_TRUE(p.events().back().error);
 }
 
 }  // namespace
