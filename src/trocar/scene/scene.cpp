@@ -14,6 +14,7 @@
 #include "trocar/scene/contact_keys.h"
 #include "trocar/scene/json_reader.h"
 #include "trocar/scene/mesh_source.h"
+#include "trocar/scene/task_keys.h"
 #include "trocar/tissue/material.h"
 
 namespace trocar {
@@ -373,7 +374,8 @@ Scene parse_scene(std::string_view text, const std::string& file, const std::fil
   }
   const JsonReader root(doc, file);
   root.expect_keys({"schema", "name", "timestep", "duration", "gravity", "tissues", "instruments", "rigids",
-                    "collision", "response", "camera", "events", "anatomy", "tissue_contacts"});
+                    "collision", "response", "camera", "events", "anatomy", "tissue_contacts", "zones",
+                    "landmarks", "task"});
   Scene scene;
   root.at("schema").integer(kSceneSchema, kSceneSchema);
   scene.name = root.string_or("name", std::filesystem::path(file).stem().string());
@@ -395,6 +397,7 @@ Scene parse_scene(std::string_view text, const std::string& file, const std::fil
   if (root.has("tissue_contacts")) read_tissue_contacts(root.at("tissue_contacts"), scene);  // contact_keys.h
   if (root.has("camera")) read_cameras(root.at("camera"), scene);
   if (root.has("events")) scene.actions = read_actions(root.at("events"), scene.world);
+  read_task_keys(root, scene);  // last: the task's names are checked against everything above
   return scene;
 }
 
