@@ -443,10 +443,10 @@ InguinalAnatomy make_tapp_anatomy(HerniaKind kind, const TappOptions& o) {
   // iliopsoas, Cooper's ligament to the transversus arch.
   L["mpo_min"] = on_wall({0.022, -0.005});
   L["mpo_max"] = on_wall({0.100, 0.060});
-  L["mpo_corner_inferomedial"] = on_wall({0.022, -0.005});
-  L["mpo_corner_inferolateral"] = on_wall({0.100, -0.005});
-  L["mpo_corner_superolateral"] = on_wall({0.100, 0.060});
-  L["mpo_corner_superomedial"] = on_wall({0.022, 0.060});
+  L["mpo_0"] = on_wall({0.022, -0.005});
+  L["mpo_1"] = on_wall({0.100, -0.005});
+  L["mpo_2"] = on_wall({0.100, 0.060});
+  L["mpo_3"] = on_wall({0.022, 0.060});
   {
     const AnatomyStructure* cooper = out.find("coopers_ligament");
     const Vec3 mid = cooper->centreline[cooper->centreline.size() / 2];
