@@ -62,6 +62,7 @@ const std::vector<MeshGenerator>& mesh_generators() {
       {"liver-lobe", generate_liver_lobe, "length, width, thickness (m); subdivisions, flatten, taper"},
       {"grasper", generate_grasper, "all optional (5 mm grasper): shaft_radius, shaft_length, jaw_* (m), segments; jaw triangles 0..23"},
       {"hook-probe", generate_hook_probe, "all optional (4.5 mm hook): shaft_radius, shaft_length, hook_radius, stem_length, hook_length (m), segments"},
+      {"tacker", generate_tacker, "all optional (5 mm tack applier): shaft_radius, shaft_length, bevel (m), segments"},
   };
   return table;
 }
