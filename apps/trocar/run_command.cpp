@@ -17,6 +17,7 @@
 #include "cli_support.h"
 #include "frame_size.h"
 #include "realtime_command.h"
+#include "task_report.h"
 #include "trocar/core/error.h"
 #include "trocar/core/statistics.h"
 #include "trocar/scene/scene.h"
@@ -86,6 +87,9 @@ void run(const Options& o) {
 
   Simulation sim = make_simulation(scene);
   const World& world = sim.world();
+  // The task, when the scene states one: evaluated after every step (docs/procedure.md).
+  std::unique_ptr<Procedure> procedure;
+  if (scene.task) procedure = std::make_unique<Procedure>(*scene.task, world, scene.zones, scene.landmarks);
 #ifdef TROCAR_HAVE_RENDER
   std::unique_ptr<FrameRecorder> frames;
   if (!o.frames.empty() || !o.video.empty()) {
@@ -137,6 +141,7 @@ void run(const Options& o) {
     pairs_max = std::max<std::uint64_t>(pairs_max, m.contacts);
     steps_with_contact += m.contacts > 0 ? 1 : 0;
     tunneling += m.tunneling_events;
+    if (procedure) procedure->update(sim);
     if (m.vertices_inside > 0) depths.push_back(m.penetration_max);
     double force = 0;
     for (const InstrumentMetrics& im : sim.instrument_metrics()) force = std::max(force, im.force.norm());
@@ -192,6 +197,7 @@ void run(const Options& o) {
       {"stable", stable},
       {"state_hash", hash_hex(sim.state_hash())},
   };
+  if (procedure) report["task"] = task_report(*procedure);
   if (record) {
     record->close();
     fs::rename(record_tmp, o.record);
@@ -215,6 +221,7 @@ void run(const Options& o) {
     std::printf("%s: %zu steps, %.3f s simulated in %.3f s; step median %.1f us; %s; hash %s\n", scene.name.c_str(),
                 done, sim.time(), wall, report["timing_us"]["step"]["median"].get<double>(),
                 stable ? "stable" : "UNSTABLE", hash_hex(sim.state_hash()).c_str());
+  if (procedure && !o.quiet) print_task(*procedure);
 }
 
 }  // namespace

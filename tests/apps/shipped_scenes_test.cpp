@@ -122,10 +122,14 @@ TEST(ShippedScenes, StabRunsStablyWithNoFarSurfaceContactApplied) {
   EXPECT_EQ(r.far_contacts_applied, 0u);
 }
 
+TEST(ShippedScenes, TappGroinScenesRunStably) {
+  for (const char* file : {"tapp_indirect.json", "tapp_direct.json"}) expect_stable(run_scene(file, 2.0));
+}
+
 /// The CLI's own verdict: `trocar run SCENE --duration 2 --report FILE` says `stable: true`;
 /// built_liver builds its organ from a volume (the modelling module), in a private cache.
 TEST(ShippedScenes, TrocarRunReportsStable) {
-  std::vector<const char*> names{"hernia", "probe_press_slide", "grasp_lift", "stab"};
+  std::vector<const char*> names{"hernia", "probe_press_slide", "grasp_lift", "stab", "tapp_indirect", "tapp_direct"};
 #if TROCAR_HAVE_MODELLING
   names.push_back("built_liver");
   const std::filesystem::path cache = std::filesystem::temp_directory_path() / "trocar_shipped_cache";

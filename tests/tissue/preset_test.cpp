@@ -134,7 +134,8 @@ TEST(Preset, SoftIsStableSemiImplicitOnACoarseSphere) {
 
 TEST(Preset, NamesAreTheDocumentedOnesAndAllBuild) {
   const std::vector<std::string> names = material_preset_names();
-  EXPECT_EQ(names, (std::vector<std::string>{"liver", "gallbladder", "abdominal_wall", "stomach", "peritoneum", "soft"}));
+  EXPECT_EQ(names, (std::vector<std::string>{"liver", "gallbladder", "abdominal_wall", "stomach", "peritoneum", "soft",
+                                               "polypropylene-mesh"}));
   const TriMesh sphere = make_icosphere(0.05, 2);
   for (const std::string& name : names) {
     const MassSpringMaterial m = material_preset(name);

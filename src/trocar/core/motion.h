@@ -38,6 +38,7 @@ class KeyframeMotion {
   std::span<const Keyframe> keyframes() const { return keyframes_; }
   /// Time of the last keyframe (s), 0 when none.
   Real end_time() const { return keyframes_.empty() ? 0 : keyframes_.back().t; }
+  bool empty() const { return keyframes_.empty(); }  ///< no keyframes: the instrument stays where it is put
 
  private:
   std::vector<Keyframe> keyframes_;

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "trocar/core/types.h"
+#include "trocar/response/triangle_grid.h"
 #include "trocar/tissue/settings.h"
 #include "trocar/tissue/state.h"
 
@@ -37,7 +38,8 @@ struct AttachmentSpec {
   SurfacePoint a;              ///< e.g. on the prosthetic mesh
   SurfacePoint b;              ///< e.g. on the abdominal wall
   Real pullout_force = 28.6;   ///< N; docs/response.md cites the figure
-  Real compliance = 1e-4;      ///< m/N (the inverse of the tack's stiffness)
+  /// m/N (the inverse of the tack's stiffness): 2e-5 stretches 0.57 mm at the pull-out force.
+  Real compliance = 2e-5;
 };
 
 /// An attachment and what it did.
@@ -80,9 +82,41 @@ class TissueContactSolver {
   std::uint32_t corrected() const { return corrected_; }
 
  private:
+  /// A tissue that takes part in a pair: where its vertices started, its triangles' boxes and
+  /// their grid, sized once.
+  struct Body {
+    std::uint32_t tissue = 0;
+    Real reach = 0;                 ///< the largest thickness of its pairs (m)
+    Real side = 0;                  ///< closed: +1 outward normals (−1 inward); open: 0 (start side)
+    std::vector<Vec3> start;        ///< positions at begin_step
+    std::vector<Vec3> lo, hi;       ///< per triangle: box over start and end, ± reach
+    TriangleGrid grid;
+  };
+  /// A vertex near a triangle (of the same or another tissue) and the side it must stay on.
+  struct Candidate {
+    std::uint32_t vertex_tissue, vertex, triangle_tissue, triangle;
+    Real side;        ///< +1 / −1: the side of the triangle's plane the vertex must end on
+    Real thickness;   ///< the pair's gap (m)
+    Real friction;    ///< the pair's Coulomb coefficient
+    Real reach;       ///< the deepest violation this step's motion can explain (m)
+    Vec3 direction;   ///< last iteration: the unit direction that separates
+    Vec3 bary;        ///< last iteration: the closest point's barycentric weights
+    bool touching;    ///< last iteration: within the gap
+    bool corrected;   ///< moved at least once this solve
+  };
+
+  void gather(const TissueContactPair& pair, Body& vertices, Body& triangles, bool self);
+  void project_contact(Candidate& c);
+  void project_attachment(std::size_t i, Real alpha, Real dt);
+  void contact_velocities(const Candidate& c);
+
   std::vector<ContactTissue> tissues_;
   std::vector<TissueContactPair> pairs_;
   std::vector<AttachmentState> attachments_;
+  std::vector<Vec3> lambda_;                 ///< per attachment: this step's Lagrange multiplier
+  std::vector<Body> bodies_;                 ///< the tissues in pairs
+  std::vector<std::int32_t> body_of_;        ///< per tissue: index into bodies_, −1 if in no pair
+  std::vector<Candidate> candidates_;
   std::size_t capacity_ = 0;
   std::uint32_t corrected_ = 0;
 };

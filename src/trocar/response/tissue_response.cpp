@@ -42,6 +42,8 @@ class PenaltyResponse : public TissueResponse {
     }
   }
 
+  std::size_t held_vertices(std::size_t i) const override { return solvers_[i].grasp().held().size(); }
+
  protected:
   ResponseTissue tissue_;
   std::vector<ResponseInstrument> instruments_;
@@ -117,6 +119,7 @@ class SolverContactResponse final : public TissueResponse {
 
   std::span<const std::uint8_t> instrument_hits(std::size_t i) const override { return contacts_.hits(i); }
   std::span<const SolverContactPoint> contact_points(std::size_t i) const override { return contacts_.points(i); }
+  std::size_t held_vertices(std::size_t i) const override { return contacts_.held(i).size(); }
 
  private:
   InstrumentContacts contacts_;

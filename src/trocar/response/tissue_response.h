@@ -66,6 +66,8 @@ class TissueResponse {
   /// The contacts with instrument i that this response answered itself, for display (empty when
   /// the detected pairs are its contacts).
   virtual std::span<const SolverContactPoint> contact_points(std::size_t /*instrument*/) const { return {}; }
+  /// Tissue vertices instrument i's closed jaws hold now (0 when none). No allocation.
+  virtual std::size_t held_vertices(std::size_t /*instrument*/) const { return 0; }
 };
 
 /// True when a tissue on `integrator` with these settings needs the instruments' signed distance

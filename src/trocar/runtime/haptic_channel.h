@@ -33,6 +33,9 @@ struct InstrumentCommand {
   Pose pose;           ///< the device's pose in the world, where physics puts the instrument
   Real jaw = 0;        ///< 0…1
   bool active = false; ///< a sample has arrived (before: the instrument stays where the scene put it)
+  /// Action bits held down now (procedure/actions.h): the device's button 1 fires, button 2
+  /// exchanges (button 0 closes the jaws); the viewer's keys set them too.
+  std::uint32_t actions = 0;
 };
 
 /// The haptic path of one instrument.

@@ -6,7 +6,9 @@
 
 namespace trocar {
 
-const StepMetrics& apply_recorded_step(Simulation& sim, const StepRecord& record) {
+const StepMetrics& apply_recorded_step(Simulation& sim, const StepRecord& record, ActionHandler* handler) {
+  for (std::size_t i = 0; i < record.instruments; ++i)
+    if (record.instrument[i].actions != 0) apply_actions(sim, i, record.instrument[i].actions, handler);
   for (std::size_t i = 0; i < record.instruments; ++i) {
     const StepInstrument& s = record.instrument[i];
     if (s.mode == 1) sim.command_instrument(i, from_words(s.pose), s.jaw);
@@ -29,18 +31,26 @@ const ContactModelSet& PhysicsStepper::step(const InstrumentCommandSet& commands
   record.instruments = static_cast<std::uint32_t>(instruments_);
   for (std::size_t i = 0; i < instruments_; ++i) {
     const InstrumentCommand& c = commands.instruments[i];
-    StepInstrument& s = record.instrument[i];
+    record.instrument[i].actions = pressed_bits(held_actions_[i], c.actions);
+    held_actions_[i] = c.actions;
+  }
+  for (std::size_t i = 0; i < instruments_; ++i) {
+    const InstrumentCommand& c = commands.instruments[i];
     if (!c.active) continue;  // keyframes until the device's first sample
-    s.mode = placed_[i] ? 1U : 2U;
-    placed_[i] = true;
+    // A device drives its port: whichever instrument of the port is in the body (an exchange
+    // pressed this step takes effect from the next).
+    const std::size_t target = std::min(sim_.active_in_port(i), instruments_ - 1);
+    StepInstrument& s = record.instrument[target];
+    s.mode = placed_[target] ? 1U : 2U;
+    placed_[target] = true;
     s.pose = to_words(c.pose);
     s.jaw = c.jaw;
   }
-  const StepMetrics& m = apply_recorded_step(sim_, record);
+  const StepMetrics& m = apply_recorded_step(sim_, record, handler_);
 
   const Timer model_timer;
   for (std::size_t i = 0; i < instruments_; ++i) {
-    const Vec3 force = sim_.instrument_metrics()[i].force;
+    const Vec3 force = sim_.instrument_metrics()[std::min(sim_.active_in_port(i), instruments_ - 1)].force;
     const Vec3 position = sim_.world().instruments[i].instrument.pose().translation;
     // First-order low-pass, exact for a held input: a = dt/(τ + dt) (backward Euler of τ ḟ = F − f).
     const Real a = force_filter_ > 0 ? dt / (force_filter_ + dt) : 1;

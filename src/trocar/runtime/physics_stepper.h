@@ -5,6 +5,7 @@
 #include <array>
 #include <cstdint>
 
+#include "trocar/procedure/actions.h"
 #include "trocar/runtime/haptic_channel.h"
 #include "trocar/runtime/histogram.h"
 #include "trocar/runtime/local_contact_model.h"
@@ -24,9 +25,10 @@ struct PhysicsTimings {
   TimingHistogram broad_phase, narrow_phase, response, deformation, projection, step, model;
 };
 
-/// Applies a step record's instrument modes (place, command, keyframes) and steps by its dt.
-/// The one function both the live physics thread and replay use.
-const StepMetrics& apply_recorded_step(Simulation& sim, const StepRecord& record);
+/// Applies a step record's actions (exchange; fire through `handler` when given), its instrument
+/// modes (place, command, keyframes), and steps by its dt. The one function both the live
+/// physics thread and replay use.
+const StepMetrics& apply_recorded_step(Simulation& sim, const StepRecord& record, ActionHandler* handler = nullptr);
 
 /// Steps a Simulation for the runtime (one thread at a time).
 class PhysicsStepper {
@@ -37,6 +39,8 @@ class PhysicsStepper {
   /// its mean is the contact force, but step to step it swings by the tissue vertices' inertia,
   /// and a proxy that followed those swings would feed them back into the next step.
   PhysicsStepper(Simulation& sim, Real stiffness_prior, Real force_filter = kForceFilter);
+  /// Who fires the tacker (the procedure); null: fire presses are recorded but do nothing.
+  void set_action_handler(ActionHandler* handler) { handler_ = handler; }
   static constexpr Real kForceFilter = 0.005;  ///< s, the default low-pass time constant
   /// One step of dt seconds with `commands`; `now_ns` (steady clock) stamps the models. Fills
   /// `record` with what replay needs and the module timings. No allocation after the first.
@@ -50,6 +54,8 @@ class PhysicsStepper {
   std::size_t instruments_;
   std::array<ContactStiffnessEstimator, kMaxRuntimeInstruments> estimators_;
   std::array<bool, kMaxRuntimeInstruments> placed_{};
+  std::array<std::uint32_t, kMaxRuntimeInstruments> held_actions_{};  ///< per channel, last step's
+  ActionHandler* handler_ = nullptr;
   std::array<Vec3, kMaxRuntimeInstruments> filtered_force_{};  ///< low-passed force (N)
   Real force_filter_;
   ContactModelSet models_;

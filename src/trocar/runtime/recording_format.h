@@ -59,7 +59,9 @@ struct StepInstrument {
   PoseWords pose{};                 ///< commanded pose (world)
   double jaw = 0;                   ///< commanded jaw
   std::uint32_t mode = 0;           ///< 0 keyframes, 1 commanded, 2 placed (reset at rest)
-  std::uint32_t reserved = 0;
+  /// Actions pressed before this step on this instrument's port (procedure/actions.h bits;
+  /// always 0 in recordings made before actions existed, whose word was reserved).
+  std::uint32_t actions = 0;
   std::array<double, 3> force{};    ///< resulting force on the instrument (N, clamped)
 };
 

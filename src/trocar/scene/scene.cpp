@@ -9,8 +9,12 @@
 #include "trocar/core/pose.h"
 #include "trocar/mesh/renumber.h"
 #include "trocar/mesh/repair.h"
+#include "trocar/scene/action_keys.h"
+#include "trocar/scene/anatomy_scene.h"
+#include "trocar/scene/contact_keys.h"
 #include "trocar/scene/json_reader.h"
 #include "trocar/scene/mesh_source.h"
+#include "trocar/scene/task_keys.h"
 #include "trocar/tissue/material.h"
 
 namespace trocar {
@@ -107,7 +111,7 @@ IntegratorKind read_integrator(const JsonReader& obj) {
 
 void read_tissue(const JsonReader& t, std::size_t index, Scene& scene, const std::filesystem::path& dir) {
   t.expect_keys({"name", "mesh", "scale", "translate", "rotate_deg", "repair", "material", "fixed", "integrator",
-                 "substeps", "texture"});
+                 "substeps", "texture", "appearance", "roll"});
   const std::string name = name_or(t, "tissue", index);
   const TriMesh file_mesh = placed_mesh(t, dir);
   const MassSpringMaterial material = t.has("material") ? read_material(t.at("material")) : MassSpringMaterial{};
@@ -131,6 +135,7 @@ void read_tissue(const JsonReader& t, std::size_t index, Scene& scene, const std
   } catch (const Error& e) {
     t.fail(e.what());
   }
+  if (t.has("roll")) read_tissue_roll(t.at("roll"), *scene.world.tissues.back());  // contact_keys.h
   std::filesystem::path texture;
   if (t.has("texture")) {
     const JsonReader tex = t.at("texture");
@@ -139,7 +144,7 @@ void read_tissue(const JsonReader& t, std::size_t index, Scene& scene, const std
     if (file_mesh.texcoords.empty()) tex.fail("the mesh has no texture coordinates (OBJ vt, PLY u/v) to map it with");
   }
   scene.textures.push_back(std::move(texture));
-  scene.tissue_appearance.emplace_back();
+  scene.tissue_appearance.push_back(t.has("appearance") ? read_appearance(t.at("appearance")) : Appearance{});
 }
 
 KeyframeMotion read_motion(const JsonReader& m) {
@@ -210,7 +215,7 @@ DeviceSpec read_device(const JsonReader& d, const std::filesystem::path& dir) {
 
 void read_instrument(const JsonReader& r, std::size_t index, Scene& scene, const std::filesystem::path& dir) {
   r.expect_keys({"name", "mesh", "scale", "translate", "rotate_deg", "repair", "top_vertex", "shaft_direction",
-                 "jaw_triangles", "motion", "device"});
+                 "jaw_triangles", "motion", "device", "port"});
   const std::string name = name_or(r, "instrument", index);
   TriMesh mesh = placed_mesh(r, dir);
   const std::size_t nv = mesh.vertex_count();
@@ -234,14 +239,17 @@ void read_instrument(const JsonReader& r, std::size_t index, Scene& scene, const
   DeviceSpec device;
   if (r.has("device")) device = read_device(r.at("device"), dir);
   KeyframeMotion motion = r.has("motion") ? read_motion(r.at("motion")) : KeyframeMotion{};
-  scene.world.add_instrument(name, std::move(instrument), std::move(motion));
+  InstrumentBody& body = scene.world.add_instrument(name, std::move(instrument), std::move(motion));
+  if (r.has("port")) body.port = r.at("port").string();
+  const JsonReader source = r.at("mesh");
+  if (source.is_object() && source.has("generate")) body.tool = source.at("generate").string();
   scene.devices.push_back(std::move(device));
 }
 
 void read_rigid(const JsonReader& r, std::size_t index, Scene& scene, const std::filesystem::path& dir) {
-  r.expect_keys({"name", "mesh", "scale", "translate", "rotate_deg", "repair"});
+  r.expect_keys({"name", "mesh", "scale", "translate", "rotate_deg", "repair", "appearance"});
   scene.world.add_rigid(name_or(r, "rigid", index), placed_mesh(r, dir));
-  scene.rigid_appearance.emplace_back();
+  scene.rigid_appearance.push_back(r.has("appearance") ? read_appearance(r.at("appearance")) : Appearance{});
 }
 
 void read_collision(const JsonReader& c, Scene& scene) {
@@ -366,7 +374,8 @@ Scene parse_scene(std::string_view text, const std::string& file, const std::fil
   }
   const JsonReader root(doc, file);
   root.expect_keys({"schema", "name", "timestep", "duration", "gravity", "tissues", "instruments", "rigids",
-                    "collision", "response", "camera"});
+                    "collision", "response", "camera", "events", "anatomy", "tissue_contacts", "zones",
+                    "landmarks", "task"});
   Scene scene;
   root.at("schema").integer(kSceneSchema, kSceneSchema);
   scene.name = root.string_or("name", std::filesystem::path(file).stem().string());
@@ -381,10 +390,14 @@ Scene parse_scene(std::string_view text, const std::string& file, const std::fil
     const JsonReader list = root.at(key);
     for (std::size_t i = 0; i < list.array_size(); ++i) read(list.at(i), i, scene, dir);
   };
+  if (root.has("anatomy")) read_anatomy(root.at("anatomy"), scene);  // its tissues and rigids come first
   each("tissues", read_tissue);
   each("instruments", read_instrument);
   each("rigids", read_rigid);
+  if (root.has("tissue_contacts")) read_tissue_contacts(root.at("tissue_contacts"), scene);  // contact_keys.h
   if (root.has("camera")) read_cameras(root.at("camera"), scene);
+  if (root.has("events")) scene.actions = read_actions(root.at("events"), scene.world);
+  read_task_keys(root, scene);  // last: the task's names are checked against everything above
   return scene;
 }
 

@@ -2,12 +2,15 @@
 /// Scene files (JSON, schema 1, docs/scene.md) → a World and its settings.
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "trocar/core/types.h"
 #include "trocar/geometry/zone.h"
+#include "trocar/procedure/actions.h"
+#include "trocar/procedure/task.h"
 #include "trocar/scene/appearance.h"
 #include "trocar/scene/camera_spec.h"
 #include "trocar/scene/device_spec.h"
@@ -42,6 +45,10 @@ struct Scene {
   std::vector<NamedZone> zones;
   /// Named points of the anatomy (m): where tacks belong, the defect's centre, the wall's plane...
   std::map<std::string, Vec3> landmarks;
+  /// Scripted actions ("events"): fire the tacker, exchange an instrument, at given times.
+  std::vector<ScriptedAction> actions;
+  /// "task": what the trainee must do (none: the scene is a free simulation).
+  std::optional<TaskSpec> task;
 };
 
 /// Reads and validates a scene file. Every key is checked: an unknown key, a wrong type, a

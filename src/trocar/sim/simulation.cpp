@@ -55,6 +55,14 @@ void hash_vec(std::uint64_t& h, const Vec3& v) {
   for (int k = 0; k < 3; ++k) hash_real(h, v[k]);
 }
 
+/// Where an instrument waiting outside the body is kept: far from every scene (a scene is
+/// centimetres across), a metre apart from the next one, so it neither touches nor is touched.
+Pose parking_pose(std::size_t i) {
+  Pose p;
+  p.translation = Vec3(0, 0, 100.0 + static_cast<Real>(i));
+  return p;
+}
+
 }  // namespace
 
 Simulation::Simulation(World world, const SimulationSettings& settings)
@@ -62,9 +70,26 @@ Simulation::Simulation(World world, const SimulationSettings& settings)
   const std::size_t ni = world_.instruments.size();
   const std::size_t nt = world_.tissues.size();
   commands_.resize(ni);
-  for (InstrumentBody& body : world_.instruments) {
+  // Ports: instruments naming the same port share one group; the first of a group is inside.
+  phase_.assign(ni, PortPhase::kInside);
+  port_of_.resize(ni);
+  for (std::size_t i = 0; i < ni; ++i) {
+    const std::string& port = world_.instruments[i].port;
+    std::size_t first = i;
+    for (std::size_t j = 0; j < i && first == i; ++j)
+      if (!port.empty() && world_.instruments[j].port == port) first = j;
+    if (first == i) {
+      port_of_[i] = static_cast<std::uint32_t>(port_active_.size());
+      port_active_.push_back(i);
+    } else {
+      port_of_[i] = port_of_[first];
+      phase_[i] = PortPhase::kOutside;
+    }
+  }
+  for (std::size_t i = 0; i < ni; ++i) {
+    InstrumentBody& body = world_.instruments[i];
     const MotionSample s = body.motion.sample(0);
-    body.instrument.reset_pose(s.pose);
+    body.instrument.reset_pose(phase_[i] == PortPhase::kOutside ? parking_pose(i) : s.pose);
     body.instrument.set_jaw(s.jaw);
   }
   for (const InstrumentBody& body : world_.instruments)
@@ -112,6 +137,48 @@ void Simulation::place_instrument(std::size_t i, const Pose& pose, Real jaw) {
 
 void Simulation::release_instrument(std::size_t i) { commands_[i].active = false; }
 
+std::size_t Simulation::exchange(std::size_t i) {
+  const std::uint32_t group = port_of_[i];
+  const std::size_t out = port_active_[group];
+  if (phase_[out] != PortPhase::kInside) return out;  // an exchange is under way
+  std::size_t in = out;
+  for (std::size_t k = 1; k < phase_.size() && in == out; ++k) {
+    const std::size_t j = (out + k) % phase_.size();
+    if (port_of_[j] == group) in = j;
+  }
+  if (in == out) return out;
+  phase_[out] = PortPhase::kWithdrawing;
+  phase_[in] = PortPhase::kInserting;
+  port_active_[group] = in;
+  return in;
+}
+
+void Simulation::advance_ports() {
+  // An exchange takes two steps: in the first the outgoing instrument stays where it is with its
+  // jaws open, so that whatever it held is let go where it is; then it leaves for its parking place and
+  // the incoming one takes its pose (at rest), and its port's command if the port is driven.
+  for (std::size_t out = 0; out < phase_.size(); ++out) {
+    if (phase_[out] != PortPhase::kWithdrawing) continue;
+    InstrumentBody& body = world_.instruments[out];
+    if (body.instrument.jaw() > 0) {
+      body.instrument.reset_pose(body.instrument.pose());  // held still
+      body.instrument.set_jaw(0);
+      continue;  // lets go this step; leaves at the next
+    }
+    const std::size_t in = port_active_[port_of_[out]];
+    const Pose pose = body.instrument.pose();
+    world_.instruments[in].instrument.reset_pose(pose);
+    if (commands_[out].active) {
+      commands_[in] = commands_[out];
+      commands_[in].sample.jaw = 0;
+      commands_[out].active = false;
+    }
+    body.instrument.reset_pose(parking_pose(out));
+    phase_[out] = PortPhase::kOutside;
+    phase_[in] = PortPhase::kInside;
+  }
+}
+
 const StepMetrics& Simulation::step(Real dt) {
   const Timer total;
   const StageTimings zero{};
@@ -121,8 +188,11 @@ const StepMetrics& Simulation::step(Real dt) {
   Timer stage;
   time_ += dt;
   dt_ = dt;
+  advance_ports();
   for (std::size_t i = 0; i < world_.instruments.size(); ++i) {
+    if (phase_[i] != PortPhase::kInside) continue;  // outside, or withdrawing: held where it is
     InstrumentBody& body = world_.instruments[i];
+    if (!commands_[i].active && body.motion.empty()) continue;  // no keyframes: stays where it is put
     const MotionSample s = commands_[i].active ? commands_[i].sample : body.motion.sample(time_);
     body.instrument.move_to(s.pose, dt);
     body.instrument.set_jaw(s.jaw);

@@ -107,6 +107,17 @@ class Simulation {
   void place_instrument(std::size_t i, const Pose& pose, Real jaw);
   /// Returns instrument i to its keyframes.
   void release_instrument(std::size_t i);
+  /// Instrument exchange through a port (scene "port"), as a surgeon does: the instrument of
+  /// i's port now in the body is withdrawn (its jaws open and let go; one step later it waits
+  /// outside the body) and the next instrument of that port, in scene order, is inserted at the
+  /// pose the withdrawn one had, at rest; a commanded (device-driven) port stays commanded, so
+  /// the device drives the new instrument. Returns the index of the inserted instrument (i itself
+  /// when its port has one instrument: nothing happens). No allocation.
+  std::size_t exchange(std::size_t i);
+  /// The instrument of i's port that is in the body now (or being inserted).
+  std::size_t active_in_port(std::size_t i) const { return port_active_[port_of_[i]]; }
+  /// True while instrument i waits outside the body (parked far from everything, never touching).
+  bool parked(std::size_t i) const { return phase_[i] == PortPhase::kOutside; }
   /// True while instrument i is commanded.
   bool instrument_commanded(std::size_t i) const { return commands_[i].active; }
 
@@ -157,6 +168,13 @@ class Simulation {
     MotionSample sample;  ///< pose and jaw
   };
   std::vector<Command> commands_;
+  /// Ports: each instrument's port group, the group's instrument in use, and each instrument's
+  /// phase in an exchange.
+  enum class PortPhase : std::uint8_t { kInside, kWithdrawing, kOutside, kInserting };
+  std::vector<std::uint32_t> port_of_;
+  std::vector<std::size_t> port_active_;
+  std::vector<PortPhase> phase_;
+  void advance_ports();
   StepMetrics metrics_;
   Real time_ = 0;
   Real dt_ = 0;  ///< this step's dt (s)

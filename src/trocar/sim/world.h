@@ -43,6 +43,13 @@ struct InstrumentBody {
   KeyframeMotion motion;     ///< scripted pose and jaw over time
   /// Thickness used by the tunneling metric (m): twice the smallest half-extent of the OBB.
   Real thickness = 0;
+  /// The trocar port it enters through (scene "port"). Instruments naming the same port take
+  /// turns: one is in the body, the others wait outside until an exchange (Simulation::exchange).
+  /// Empty: a port of its own.
+  std::string port;
+  /// What it is: the scene generator's name ("grasper", "tacker", "hook-probe", ...) or "custom"
+  /// for a mesh from a file. The procedure fires only a "tacker".
+  std::string tool = "custom";
 };
 
 /// Static geometry (role kRigid): bones, a table, ports. Only detected, never moved.

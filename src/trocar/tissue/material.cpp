@@ -36,7 +36,7 @@ struct Preset {
 //    implicit step, a triangle pass per CG iteration). Use it when k_structural is small.
 //  * Damping. γ = 5/s (the surrounding tissue and fluid; relaxation time 0.2 s); λ about
 //    0.1·√(k·m̄), well under critical.
-constexpr std::array<Preset, 6> kPresets{{
+constexpr std::array<Preset, 7> kPresets{{
     // Liver, 1.5 kg (adult liver 1.2–1.8 kg). Shared mesh: liver_sofa_smooth.obj × 0.01
     // (6.4 cm wide, so this is a dense load case), 2194 V, mean vertex 0.68 g, lightest 0.09 g.
     // Closed: the volume term is a bulk modulus (Pa).
@@ -71,6 +71,16 @@ constexpr std::array<Preset, 6> kPresets{{
     {"soft", "semi-implicit-euler",
      {.mass = 0, .density = 1060, .sheet_thickness = 0.002, .k_structural = 20, .k_bending = 2,
       .damping = 5, .spring_damping = 0.02, .k_area = 0, .k_volume = 1e3, .k_home = 2}},
+    // Lightweight polypropylene hernia mesh (docs/tissue.md, "polypropylene-mesh"): 40 g/m²
+    // (lightweight meshes 28–60 g/m², Deveci et al. 2023; Parietene Light / Optilene 36–48 g/m²,
+    // Brown & Finch 2010) as an effective density over a 0.5 mm knit. Tensile: 16 N/cm (the
+    // groin's physiological load, Zhu, Schuster & Klinge 2015) stretches it by an assumed 20 %,
+    // a membrane stiffness of 8 kN/m; on a square grid with one diagonal per cell the springs
+    // carry 1.5·k per unit width, so k_structural = 8000/1.5 ≈ 5300 N/m on any grid spacing.
+    // A floppy knit: k_bending 0.05 N/m. Free: no home springs; open: no volume term.
+    {"polypropylene-mesh", "implicit-euler",
+     {.mass = 0, .density = 80, .sheet_thickness = 5e-4, .k_structural = 5300, .k_bending = 0.05,
+      .damping = 2, .spring_damping = 0.005, .k_area = 0, .k_volume = 0, .k_home = 0}},
 }};
 
 }  // namespace

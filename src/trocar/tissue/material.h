@@ -41,7 +41,8 @@ struct FixedSelection {
 
 /// Named presets tuned so each shared organ (scaled to metres) holds its shape under gravity
 /// at dt = 1 ms within a few millimetres (see docs/tissue.md and tests/tissue/preset_test).
-/// Known names: "liver", "gallbladder", "abdominal_wall", "stomach", "peritoneum", "soft".
+/// Known names: "liver", "gallbladder", "abdominal_wall", "stomach", "peritoneum", "soft", "polypropylene-mesh" (a prosthetic
+/// hernia mesh, not an organ: tests/response/tissue_contact_test.cpp uses it).
 /// Throws trocar::Error for an unknown name.
 MassSpringMaterial material_preset(const std::string& name);
 /// The names material_preset() knows.

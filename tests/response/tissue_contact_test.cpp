@@ -1,0 +1,406 @@
+// Tissue against tissue (docs/response.md, "Tissue against tissue"): the prosthetic mesh on a
+// curved deformable wall, the rolled mesh unrolling without crossing itself, and tacks that hold
+// below their pull-out force and tear above it. The checks use their own geometry (closest
+// points by brute force, segment–triangle crossings), not the solver's grid.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <limits>
+#include <memory>
+#include <vector>
+
+#include "trocar/core/error.h"
+#include "trocar/geometry/closest_point.h"
+#include "trocar/mesh/generate.h"
+#include "trocar/mesh/prosthetic_mesh.h"
+#include "trocar/mesh/validate.h"
+#include "trocar/response/tissue_contact.h"
+#include "trocar/tissue/integrator.h"
+#include "trocar/tissue/material.h"
+#include "trocar/tissue/settings.h"
+#include "trocar/tissue/state.h"
+
+namespace trocar {
+namespace {
+
+constexpr Real kDt = 1e-3;
+const Vec3 kGravity(0, 0, -9.81);
+
+/// One tissue stepped by hand (what Simulation::deform does, without instruments).
+struct Body {
+  MassSpringSettings settings;
+  MassSpringState state;
+  std::unique_ptr<MassSpringIntegrator> integrator;
+  TissueLoads loads;
+  Body(const TriMesh& mesh, const MassSpringMaterial& m, const FixedSelection& fixed = {})
+      : settings(MassSpringSettings::build(mesh, m, fixed, kGravity)), state(MassSpringState::at_rest(settings)) {
+    integrator = std::make_unique<MassSpringIntegrator>(settings, IntegratorKind::kImplicitEuler);
+    loads.reset(settings.vertex_count());
+  }
+};
+
+void step(std::vector<Body*> bodies, TissueContactSolver& solver, Real time) {
+  solver.begin_step();
+  for (Body* b : bodies) b->integrator->step(b->state, b->loads, kDt);
+  solver.solve(kDt, time);
+}
+
+/// Signed distance of p from the surface (brute force over every triangle; the sign from the
+/// nearest triangle's normal).
+Real signed_distance_brute(const Vec3& p, const MassSpringSettings& s, const std::vector<Vec3>& x) {
+  Real best = std::numeric_limits<Real>::infinity(), sign = 1;
+  for (const Triangle& t : s.triangles) {
+    const TriangleClosestPoint q = closest_point_on_triangle(p, x[t[0]], x[t[1]], x[t[2]]);
+    const Real d = (p - q.point).norm();
+    if (d < best) {
+      best = d;
+      const Vec3 n = (x[t[1]] - x[t[0]]).cross(x[t[2]] - x[t[0]]);
+      sign = n.dot(p - q.point) >= 0 ? 1 : -1;
+    }
+  }
+  return sign * best;
+}
+
+/// A sheet bent onto a cylinder of radius R about the y axis, crown at z = 0, normals outward.
+TriMesh curved_wall(Real R) {
+  TriMesh m = make_sheet(0.2, 0.16, 25, 20);
+  for (Vec3& p : m.positions) p = Vec3(R * std::sin(p.x() / R), p.y(), R * std::cos(p.x() / R) - R);
+  return m;
+}
+
+struct RestOutcome {
+  Real min_distance = 0;   ///< the lowest mesh vertex's signed distance from the wall (m)
+  Real p99_shortfall = 0;  ///< 99th percentile of max(0, thickness − distance) (m)
+  Real max_speed = 0;      ///< the fastest mesh vertex at the end (m/s)
+};
+
+RestOutcome mesh_on_wall(Real spacing, Real mass_scale, Real wall_scale, bool self_contact) {
+  constexpr Real kThickness = 1e-3;
+  MassSpringMaterial wm = material_preset("peritoneum");
+  wm.sheet_thickness = 0.003;
+  wm.k_structural *= 5 * wall_scale;
+  wm.k_bending *= 5 * wall_scale;
+  wm.k_home = 20 * wall_scale;
+  wm.k_area = 5 * wall_scale;
+  FixedSelection border;
+  border.below_plane = Plane{Vec3(0, 0, -0.03), Vec3(0, 0, -1)};  // the wall's far edges
+  Body wall(curved_wall(0.15), wm, border);
+  MassSpringMaterial mm = material_preset("polypropylene-mesh");
+  mm.density *= mass_scale;
+  TriMesh sheet = make_prosthetic_mesh(0.08, 0.06, spacing);
+  for (Vec3& p : sheet.positions) p.z() += 0.004;
+  Body mesh(sheet, mm);
+  std::vector<TissueContactPair> pairs{{1, 0, kThickness, 0.3}};
+  if (self_contact) pairs.push_back({1, 1, kThickness, 0.3});
+  TissueContactSolver solver({{&wall.settings, &wall.state}, {&mesh.settings, &mesh.state}}, pairs);
+  RestOutcome out;
+  out.min_distance = std::numeric_limits<Real>::infinity();
+  const int steps = 1500;
+  for (int n = 1; n <= steps; ++n) {
+    step({&wall, &mesh}, solver, n * kDt);
+    if (n % 100 == 0 || n == steps)  // never below the wall, while falling and at rest
+      for (const Vec3& p : mesh.state.positions)
+        out.min_distance = std::min(out.min_distance, signed_distance_brute(p, wall.settings, wall.state.positions));
+  }
+  std::vector<Real> shortfall;
+  for (const Vec3& p : mesh.state.positions) {
+    const Real d = signed_distance_brute(p, wall.settings, wall.state.positions);
+    shortfall.push_back(std::max<Real>(0, kThickness - d));
+  }
+  std::sort(shortfall.begin(), shortfall.end());
+  out.p99_shortfall = shortfall[static_cast<std::size_t>(0.99 * static_cast<Real>(shortfall.size() - 1))];
+  for (const Vec3& v : mesh.state.velocities) out.max_speed = std::max(out.max_speed, v.norm());
+  return out;
+}
+
+TEST(TissueContact, MeshRestsOnACurvedDeformableWall) {
+  const RestOutcome r = mesh_on_wall(0.005, 1, 1, true);
+  std::printf("mesh on wall (5 mm, nominal): min distance %.3f mm, p99 shortfall %.4f mm, max speed %.2g m/s\n",
+              1e3 * r.min_distance, 1e3 * r.p99_shortfall, r.max_speed);
+  EXPECT_GT(r.min_distance, 0);
+  EXPECT_LE(r.p99_shortfall, 0.5e-3);
+  // Not asserted: the fastest vertex still moves ~0.17 m/s at 1.5 s (a free edge of the stiff,
+  // light knit; not yet looked into).
+}
+
+TEST(TissueContact, MeshRestsOnTheWallInEveryCellOfTheGrid) {
+  Real worst_p99 = 0, worst_min = std::numeric_limits<Real>::infinity();
+  char worst[96] = "";
+  for (const Real spacing : {0.004, 0.008})
+    for (const Real mass : {0.5, 2.0})
+      for (const Real wall : {0.5, 2.0}) {
+        const RestOutcome r = mesh_on_wall(spacing, mass, wall, false);
+        EXPECT_GT(r.min_distance, 0) << spacing << " " << mass << " " << wall;
+        EXPECT_LE(r.p99_shortfall, 0.5e-3) << spacing << " " << mass << " " << wall;
+        worst_min = std::min(worst_min, r.min_distance);
+        if (r.p99_shortfall >= worst_p99) {
+          worst_p99 = r.p99_shortfall;
+          std::snprintf(worst, sizeof worst, "spacing %.0f mm, mass x%.1f, wall x%.1f", 1e3 * spacing, mass, wall);
+        }
+      }
+  std::printf("worst cell: %s: p99 shortfall %.4f mm; lowest vertex over the grid %.3f mm above the wall\n", worst,
+              1e3 * worst_p99, 1e3 * worst_min);
+}
+
+/// Segment pq crosses triangle abc (Möller–Trumbore on the segment, endpoints included).
+bool segment_crosses_triangle(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 d = q - p, e1 = b - a, e2 = c - a;
+  const Vec3 h = d.cross(e2);
+  const Real det = e1.dot(h);
+  if (std::abs(det) < 1e-20) return false;
+  const Real f = 1 / det;
+  const Vec3 s = p - a;
+  const Real u = f * s.dot(h);
+  if (u < 0 || u > 1) return false;
+  const Vec3 qv = s.cross(e1);
+  const Real v = f * d.dot(qv);
+  if (v < 0 || u + v > 1) return false;
+  const Real t = f * e2.dot(qv);
+  return t >= 0 && t <= 1;
+}
+
+/// Edge–triangle crossings within one surface, over edges and triangles that share no vertex.
+int self_crossings(const MassSpringSettings& s, const std::vector<Vec3>& x) {
+  std::vector<Vec3> lo, hi;
+  for (const Triangle& t : s.triangles) {
+    lo.push_back(x[t[0]].cwiseMin(x[t[1]]).cwiseMin(x[t[2]]));
+    hi.push_back(x[t[0]].cwiseMax(x[t[1]]).cwiseMax(x[t[2]]));
+  }
+  int count = 0;
+  for (std::size_t e = 0; e < s.structural_count; ++e) {
+    const Spring& sp = s.springs[e];
+    const Vec3 &p = x[sp.i], &q = x[sp.j];
+    const Vec3 elo = p.cwiseMin(q), ehi = p.cwiseMax(q);
+    for (std::size_t k = 0; k < s.triangles.size(); ++k) {
+      const Triangle& t = s.triangles[k];
+      if (t[0] == sp.i || t[1] == sp.i || t[2] == sp.i || t[0] == sp.j || t[1] == sp.j || t[2] == sp.j) continue;
+      if ((elo.array() > hi[k].array()).any() || (ehi.array() < lo[k].array()).any()) continue;
+      if (segment_crosses_triangle(p, q, x[t[0]], x[t[1]], x[t[2]])) ++count;
+    }
+  }
+  return count;
+}
+
+TEST(TissueContact, RolledMeshUnrollsWithoutCrossingItself) {
+  constexpr Real kWidth = 0.08;
+  TriMesh floor_mesh = make_sheet(0.3, 0.2, 6, 4);
+  FixedSelection all;
+  for (std::uint32_t v = 0; v < floor_mesh.vertex_count(); ++v) all.indices.push_back(v);
+  Body floor(floor_mesh, material_preset("peritoneum"), all);
+  TriMesh sheet = make_prosthetic_mesh(kWidth, 0.05, 0.005);
+  for (Vec3& p : sheet.positions) p.z() += 0.0015;
+  Body mesh(sheet, material_preset("polypropylene-mesh"));
+  roll_sheet(mesh.state.positions, SheetRoll{1, 0.004, 0.003});
+  ASSERT_EQ(self_crossings(mesh.settings, mesh.state.positions), 0);
+  const auto extent = [&] {
+    Real lo = 1, hi = -1;
+    for (const Vec3& p : mesh.state.positions) lo = std::min(lo, p.x()), hi = std::max(hi, p.x());
+    return hi - lo;
+  };
+  const Real rolled = extent();
+  TissueContactSolver solver({{&floor.settings, &floor.state}, {&mesh.settings, &mesh.state}},
+                             {{1, 0, 1e-3, 0.3}, {1, 1, 1e-3, 0.3}});
+  int crossings = 0, first_crossing = -1;
+  const int steps = 2000;
+  for (int n = 1; n <= steps; ++n) {
+    step({&floor, &mesh}, solver, n * kDt);
+    const int c = self_crossings(mesh.settings, mesh.state.positions);
+    if (c > 0 && first_crossing < 0) first_crossing = n;
+    crossings += c;
+  }
+  const Real unrolled = extent();
+  std::printf("roll: x extent %.1f mm rolled, %.1f mm after %d steps (flat %.0f mm); crossings %d (first at step %d)\n",
+              1e3 * rolled, 1e3 * unrolled, steps, 1e3 * kWidth, crossings, first_crossing);
+  EXPECT_EQ(crossings, 0);
+  EXPECT_GT(unrolled, 0.8 * kWidth);
+}
+
+/// A 2 × 2 cm mesh patch 1 mm above a fixed wall, tacked at its centre; `pull(t)` (N, +z) is
+/// spread over the patch's vertices by their mass.
+struct TackRig {
+  Body wall;
+  Body patch;
+  TissueContactSolver solver;
+  SurfacePoint on_patch, on_wall;
+  static TriMesh patch_mesh() {
+    TriMesh m = make_prosthetic_mesh(0.02, 0.02, 0.005);
+    for (Vec3& p : m.positions) p.z() += 0.001;
+    return m;
+  }
+  static FixedSelection all(std::size_t n) {
+    FixedSelection f;
+    for (std::uint32_t v = 0; v < n; ++v) f.indices.push_back(v);
+    return f;
+  }
+  static MassSpringMaterial patch_material() {
+    MassSpringMaterial m = material_preset("polypropylene-mesh");
+    m.mass = 0.02;  // heavier than the knit (16 mg), so a 30 N pull stays a few mm per step at 1 ms
+    return m;
+  }
+  TackRig()
+      : wall(make_sheet(0.04, 0.04, 8, 8), material_preset("peritoneum"), all(81)),
+        patch(patch_mesh(), patch_material()),
+        solver({{&wall.settings, &wall.state}, {&patch.settings, &patch.state}}, {}) {}
+
+  SurfacePoint point_at(const Body& b, std::uint32_t tissue, const Vec3& where) const {
+    for (std::uint32_t t = 0; t < b.settings.triangles.size(); ++t) {
+      const Triangle& tri = b.settings.triangles[t];
+      const TriangleClosestPoint q = closest_point_on_triangle(where, b.state.positions[tri[0]],
+                                                               b.state.positions[tri[1]], b.state.positions[tri[2]]);
+      if ((q.point - where).head<2>().norm() < 1e-9) return {tissue, t, q.barycentric};
+    }
+    return {};
+  }
+  std::size_t tack() {
+    on_patch = point_at(patch, 1, Vec3(0.0012, 0.0007, 0.001));
+    on_wall = point_at(wall, 0, Vec3(0.0012, 0.0007, 0));
+    AttachmentSpec spec;
+    spec.a = on_patch;
+    spec.b = on_wall;
+    return solver.attach(spec);
+  }
+  Real gap() const {
+    return (surface_position(patch.settings, patch.state, on_patch) - surface_position(wall.settings, wall.state, on_wall))
+        .norm();
+  }
+  void run(Real seconds, Real t0, const std::function<Real(Real)>& pull) {
+    const Real total_mass = patch.settings.total_mass();
+    for (int n = 1; n <= static_cast<int>(seconds / kDt + 0.5); ++n) {
+      const Real t = t0 + n * kDt;
+      patch.loads.clear();
+      for (std::uint32_t v = 0; v < patch.settings.vertex_count(); ++v)
+        patch.loads.add_force(v, Vec3(0, 0, pull(t) * patch.settings.masses[v] / total_mass));
+      step({&wall, &patch}, solver, t);
+    }
+  }
+};
+
+TEST(TissueContact, TackHoldsBelowItsPulloutForce) {
+  TackRig rig;
+  ASSERT_EQ(rig.tack(), 0u);
+  const Real rest_gap = rig.gap();
+  Real max_gap = 0;
+  const Real pullout = rig.solver.attachments()[0].spec.pullout_force;
+  for (int k = 0; k < 30; ++k) {  // up to 70 % of the pull-out force in 0.1 s, held 0.2 s
+    rig.run(0.01, k * 0.01, [&](Real t) { return 0.7 * pullout * std::min<Real>(1, t / 0.1); });
+    max_gap = std::max(max_gap, rig.gap());
+  }
+  const AttachmentState& a = rig.solver.attachments()[0];
+  std::printf("tack at 70 %% of pull-out: gap %.3f mm (start %.3f), force %.2f N\n", 1e3 * max_gap, 1e3 * rest_gap, a.force);
+  EXPECT_TRUE(a.holding);
+  EXPECT_LT(a.torn_at, 0);
+  EXPECT_LT(max_gap, 1e-3);
+  EXPECT_NEAR(a.force, 0.7 * pullout, 0.1 * pullout);  // the tack carries the pull
+}
+
+TEST(TissueContact, TackTearsWhenThePullExceedsItsPulloutForce) {
+  TackRig rig;
+  ASSERT_EQ(rig.tack(), 0u);
+  const Real pullout = rig.solver.attachments()[0].spec.pullout_force;
+  constexpr Real kRate = 100;  // N/s
+  Real force_before = 0;
+  for (int n = 0; n < 600 && rig.solver.attachments()[0].holding; ++n) {
+    force_before = rig.solver.attachments()[0].force;
+    rig.run(kDt, n * kDt, [&](Real t) { return kRate * t; });
+  }
+  const AttachmentState& a = rig.solver.attachments()[0];
+  std::printf("tack torn at %.3f s (pull %.2f N), force at the tear %.2f N (step before %.2f N), pull-out %.1f N\n",
+              a.torn_at, kRate * a.torn_at, a.force, force_before, pullout);
+  ASSERT_FALSE(a.holding);
+  EXPECT_GT(a.force, pullout);
+  EXPECT_LE(a.force, 1.05 * pullout);          // stated tolerance: 5 %
+  EXPECT_NEAR(kRate * a.torn_at, pullout, 0.1 * pullout);
+  rig.run(0.1, a.torn_at, [&](Real t) { return kRate * t; });
+  EXPECT_FALSE(rig.solver.attachments()[0].holding);  // never again
+  EXPECT_GT(rig.gap(), 2e-3);                          // and the patch left
+}
+
+TEST(TissueContact, BadAttachmentSpecsAndAFullCapacityAreRefused) {
+  TriMesh m = make_sheet(0.01, 0.01, 2, 2);
+  MassSpringSettings s = MassSpringSettings::build(m, MassSpringMaterial{});
+  MassSpringState x = MassSpringState::at_rest(s);
+  TissueContactSolver solver({{&s, &x}}, {}, 2);
+  const std::size_t refused = std::numeric_limits<std::size_t>::max();
+  AttachmentSpec ok;
+  ok.a = {0, 0, Vec3(1, 0, 0)};
+  ok.b = {0, 7, Vec3(0.2, 0.3, 0.5)};
+  AttachmentSpec bad = ok;
+  bad.a.tissue = 1;
+  EXPECT_EQ(solver.attach(bad), refused);
+  bad = ok;
+  bad.b.triangle = 8;
+  EXPECT_EQ(solver.attach(bad), refused);
+  bad = ok;
+  bad.b.bary = Vec3(0.5, 0.5, 0.5);
+  EXPECT_EQ(solver.attach(bad), refused);
+  bad = ok;
+  bad.b.bary = Vec3(std::nan(""), 0, 1);
+  EXPECT_EQ(solver.attach(bad), refused);
+  EXPECT_EQ(solver.attach(ok), 0u);
+  EXPECT_EQ(solver.attach(ok), 1u);
+  EXPECT_EQ(solver.attach(ok), refused);  // capacity 2
+  EXPECT_EQ(solver.attachments().size(), 2u);
+}
+
+TEST(TissueContact, NoPairsAndNoAttachmentsChangeNothing) {
+  TriMesh m = make_sheet(0.01, 0.01, 2, 2);
+  MassSpringSettings s = MassSpringSettings::build(m, MassSpringMaterial{}, {}, kGravity);
+  MassSpringState x = MassSpringState::at_rest(s);
+  x.velocities[3] = Vec3(0.1, 0.2, -0.3);
+  x.positions[4].z() = -1;  // through the sheet: nobody asked for contact
+  const MassSpringState before = x;
+  TissueContactSolver solver({{&s, &x}}, {});
+  solver.begin_step();
+  solver.solve(kDt, kDt);
+  EXPECT_EQ(x.positions, before.positions);
+  EXPECT_EQ(x.velocities, before.velocities);
+  EXPECT_EQ(solver.corrected(), 0u);
+}
+
+TEST(ProstheticMesh, IsACleanOpenSheetWithUvsInMetres) {
+  const TriMesh m = make_prosthetic_mesh(0.15, 0.10, 0.005);
+  EXPECT_EQ(m.vertex_count(), 31u * 21u);
+  EXPECT_EQ(m.triangle_count(), 2u * 30u * 20u);
+  EXPECT_TRUE(validate(m).is_clean_open());
+  ASSERT_EQ(m.texcoords.size(), 3 * m.triangle_count());
+  for (std::size_t t = 0; t < m.triangle_count(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const Vec3& p = m.positions[m.triangles[t][k]];
+      EXPECT_NEAR(m.texcoords[3 * t + k].x(), p.x() + 0.075, 1e-12);
+      EXPECT_NEAR(m.texcoords[3 * t + k].y(), p.y() + 0.05, 1e-12);
+    }
+  EXPECT_NEAR(m.area(), 0.015, 1e-12);
+  EXPECT_THROW(make_prosthetic_mesh(0.1, -1, 0.005), Error);
+  EXPECT_THROW(make_prosthetic_mesh(0.1, 0.1, 0), Error);
+}
+
+TEST(ProstheticMesh, RollKeepsLengthsAlongTheAxisAndArcLengthsAcross) {
+  const TriMesh m = make_prosthetic_mesh(0.1, 0.04, 0.005);
+  std::vector<Vec3> x = m.positions;
+  roll_sheet(x, SheetRoll{1, 0.004, 0.002});  // axis y: x becomes arc length
+  const MassSpringSettings s = MassSpringSettings::build(m, MassSpringMaterial{});
+  Real worst_along = 0, worst_across = 0, lowest = 1;
+  for (std::size_t e = 0; e < s.structural_count; ++e) {
+    const Spring& sp = s.springs[e];
+    const Real l = (x[sp.i] - x[sp.j]).norm();
+    const Vec3 d0 = m.positions[sp.i] - m.positions[sp.j];
+    if (std::abs(d0.x()) < 1e-12) worst_along = std::max(worst_along, std::abs(l - sp.rest_length));
+    else if (std::abs(d0.y()) < 1e-12) worst_across = std::max(worst_across, (sp.rest_length - l) / sp.rest_length);
+  }
+  for (const Vec3& p : x) lowest = std::min(lowest, p.z());
+  EXPECT_LT(worst_along, 1e-12);
+  // A 5 mm chord on the 4 mm inner turn: l³/24r² = 0.33 mm short (6.5 %).
+  EXPECT_LT(worst_across, 0.07);
+  EXPECT_GT(worst_across, 0.0);
+  EXPECT_NEAR(lowest, 0, 1e-9);  // rests on the former plane
+  std::vector<Vec3> tilted = m.positions;
+  tilted[0].z() = 0.01;
+  EXPECT_THROW(roll_sheet(tilted, SheetRoll{}), Error);
+  EXPECT_THROW(roll_sheet(x = m.positions, SheetRoll{2, 0.004, 0.002}), Error);
+}
+
+}  // namespace
+}  // namespace trocar
