@@ -99,6 +99,8 @@ void run(const Options& o) {
     parse_frame_size(o.size, "--size", fs_settings.width, fs_settings.height);
     fs_settings.camera = select_camera(scene.cameras, world, o.camera);
     fs_settings.textures = scene.textures;
+    fs_settings.tissue_appearance = scene.tissue_appearance;
+    fs_settings.rigid_appearance = scene.rigid_appearance;
     frames = std::make_unique<FrameRecorder>(world, fs_settings);
     frames->on_step(sim);  // frame 0: the scene at rest
   }

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -62,6 +63,43 @@ TEST(Instruments, HookProbeOneClosedTube) {
   EXPECT_NEAR(r.signed_volume, shaft + wire, 0.05 * wire);
 }
 
+TEST(Instruments, TackerBluntFiveMillimetreShaft) {
+  const TackerSize size;
+  const InstrumentMesh t = make_tacker(size);
+  const std::size_t s = size.segments;
+  EXPECT_TRUE(t.jaw_triangles.empty());
+  EXPECT_EQ(t.mesh.positions.size(), 3 * s + 2);
+  EXPECT_EQ(t.mesh.triangles.size(), 6 * s);
+  const MeshReport r = validate(t.mesh);
+  EXPECT_TRUE(r.is_clean()) << ::testing::PrintToString(r.defects());
+  EXPECT_EQ(r.components, 1u);
+  EXPECT_EQ(r.euler_characteristic, 2);
+  // The grasper's convention: tip at the origin, shaft up +z; Ø5 mm, 33 cm like a ProTack.
+  EXPECT_EQ(r.bounds.min.z(), 0.0);
+  EXPECT_NEAR(r.bounds.max.z(), 0.33, 1e-15);
+  EXPECT_NEAR(r.bounds.max.x(), 0.0025, 1e-15);
+  EXPECT_EQ(t.tip, Vec3::Zero());
+  EXPECT_EQ(t.tip_axis, Vec3(0, 0, -1));
+  // Blunt: the lowest ring is a flat disc of radius 1.5 mm, no point below or at a sharp apex.
+  Real tip_disc = 0;
+  for (const Vec3& p : t.mesh.positions)
+    if (p.z() == 0) tip_disc = std::max(tip_disc, std::hypot(p.x(), p.y()));
+  EXPECT_NEAR(tip_disc, size.shaft_radius - size.bevel, 1e-15);
+  // Outward and closed: the volume is the prism of the shaft less the chamfer's frustum deficit,
+  // ½·s·sin(2π/s)·(R²(L − b) + b/3·(R² + r² + R·r)) with r = R − b.
+  const Real sn = 0.5 * static_cast<Real>(s) * std::sin(2 * std::numbers::pi / static_cast<Real>(s));
+  const Real R = size.shaft_radius, b = size.bevel, rr = R - b;
+  EXPECT_NEAR(r.signed_volume, sn * (R * R * (size.shaft_length - b) + b / 3 * (R * R + rr * rr + R * rr)), 1e-15);
+  // Every triangle's normal points away from the axis or out through a cap.
+  for (const Triangle& tri : t.mesh.triangles) {
+    const Vec3 a = t.mesh.positions[tri[0]], b2 = t.mesh.positions[tri[1]], c = t.mesh.positions[tri[2]];
+    const Vec3 n = (b2 - a).cross(c - a);
+    const Vec3 centre = (a + b2 + c) / 3;
+    const Vec3 out = centre - Vec3(0, 0, std::clamp(centre.z(), 0.01, 0.32));
+    EXPECT_GT(n.dot(out), 0);
+  }
+}
+
 TEST(Instruments, RejectBadSizes) {
   GrasperSize g;
   g.jaw_length = 0;
@@ -69,6 +107,12 @@ TEST(Instruments, RejectBadSizes) {
   HookSize h;
   h.hook_radius = h.shaft_radius;
   EXPECT_THROW(make_hook_probe(h), Error);
+  TackerSize k;
+  k.bevel = k.shaft_radius;
+  EXPECT_THROW(make_tacker(k), Error);
+  k = TackerSize{};
+  k.segments = 2;
+  EXPECT_THROW(make_tacker(k), Error);
 }
 
 }  // namespace

@@ -177,5 +177,19 @@ TEST(Scene, MeshPathsAreRelativeToTheSceneFile) {
   std::filesystem::remove_all(dir);
 }
 
+TEST(Scene, TackerGeneratorBuildsTheFiveMillimetreInstrument) {
+  Scene scene = parse_scene(R"({"schema": 1, "tissues": [{"mesh": {"generate": "icosphere", "radius": 0.03}}],
+    "instruments": [{"mesh": {"generate": "tacker", "segments": 12}, "top_vertex": "auto",
+                     "motion": {"keyframes": [{"t": 0, "position": [0, 0, 0.05]}]}}]})", "scene.json", ".");
+  const TriMesh& m = scene.world.instruments[0].instrument.local_mesh();
+  EXPECT_EQ(m.positions.size(), 3u * 12 + 2);
+  EXPECT_EQ(m.triangles.size(), 6u * 12);
+  Real top = 0;
+  for (const Vec3& p : m.positions) top = std::max(top, p.z());
+  EXPECT_NEAR(top, 0.33, 1e-12);  // the handle end; the tip at the origin
+  EXPECT_NE(error_of(R"({"schema": 1, "tissues": [{"mesh": {"generate": "icosphere", "radius": 0.03}}],
+    "instruments": [{"mesh": {"generate": "tacker", "bevel": 0.01}}]})").find("tacker bevel"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace trocar

@@ -113,4 +113,39 @@ InstrumentMesh make_hook_probe(const HookSize& size) {
   return out;
 }
 
+InstrumentMesh make_tacker(const TackerSize& size) {
+  require(positive(size.shaft_radius) && positive(size.shaft_length), "tacker shaft sizes must be positive");
+  require(positive(size.bevel) && size.bevel < size.shaft_radius && size.bevel < size.shaft_length,
+          "tacker bevel must be in (0, min(shaft radius, shaft length))");
+  require(size.segments >= 3, "tacker needs segments >= 3");
+  const std::size_t s = size.segments;
+  InstrumentMesh out;
+  TriMesh& m = out.mesh;
+  const Real rings[3][2] = {{size.shaft_radius - size.bevel, 0}, {size.shaft_radius, size.bevel},
+                            {size.shaft_radius, size.shaft_length}};
+  for (const auto& ring : rings)
+    for (std::size_t i = 0; i < s; ++i) {
+      const Real a = 2 * kPi * static_cast<Real>(i) / static_cast<Real>(s);
+      m.positions.emplace_back(ring[0] * std::cos(a), ring[0] * std::sin(a), ring[1]);
+    }
+  const std::size_t tip_centre = m.positions.size();
+  m.positions.emplace_back(0, 0, 0);
+  m.positions.emplace_back(0, 0, size.shaft_length);
+  for (std::size_t k = 0; k < 2; ++k)
+    for (std::size_t i = 0; i < s; ++i) {
+      const std::size_t j = (i + 1) % s, lo = k * s, hi = (k + 1) * s;
+      m.triangles.push_back({u32(lo + i), u32(lo + j), u32(hi + j)});
+      m.triangles.push_back({u32(lo + i), u32(hi + j), u32(hi + i)});
+    }
+  for (std::size_t i = 0; i < s; ++i) {
+    const std::size_t j = (i + 1) % s;
+    m.triangles.push_back({u32(tip_centre), u32(j), u32(i)});
+    m.triangles.push_back({u32(tip_centre + 1), u32(2 * s + i), u32(2 * s + j)});
+  }
+  orient_outward(m);
+  out.tip = Vec3::Zero();
+  out.tip_axis = -Vec3::UnitZ();
+  return out;
+}
+
 }  // namespace trocar

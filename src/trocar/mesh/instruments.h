@@ -15,6 +15,8 @@ namespace trocar {
 struct InstrumentMesh {
   TriMesh mesh;                             ///< local frame, metres, tip at the origin
   std::vector<std::uint32_t> jaw_triangles;  ///< indices into mesh.triangles
+  Vec3 tip = Vec3::Zero();                  ///< the working tip (local, m): where a tack leaves
+  Vec3 tip_axis = -Vec3::UnitZ();           ///< unit, the way the tip points (away from the handle)
 };
 
 /// Sizes of make_grasper() (metres). Defaults: a 5 mm laparoscopic grasper.
@@ -51,5 +53,20 @@ struct HookSize {
 /// is the tip, directly below the elbow on the shaft axis. Rings: foot end, elbow (mitred at 45°),
 /// stem top, shaft bottom, shaft top, plus two cap centres: V = 5s + 2, T = 10s, χ = 2.
 InstrumentMesh make_hook_probe(const HookSize& size = {});
+
+/// Sizes of make_tacker() (metres). Defaults: a 5 mm helical-tack applier (ProTack-like:
+/// Ø5 mm, about 33 cm of shaft; Covidien ProTack instructions for use).
+struct TackerSize {
+  Real shaft_radius = 0.0025;  ///< Ø5 mm shaft
+  Real shaft_length = 0.33;    ///< tip to handle end
+  Real bevel = 0.001;          ///< the blunt tip's chamfer: its length along z and its inset in radius
+  std::size_t segments = 16;   ///< around the shaft (≥ 3)
+};
+
+/// A tacker: one closed capped cylinder z ∈ [0, shaft_length] whose tip end is blunt, a flat disc
+/// of radius shaft_radius − bevel at z = 0 chamfered out to the full radius at z = bevel. Rings:
+/// tip disc, chamfer top, handle end, plus two cap centres: V = 3s + 2, T = 6s, χ = 2.
+/// tip = the origin, tip_axis = −z (a tack leaves along it). Throws trocar::Error on bad sizes.
+InstrumentMesh make_tacker(const TackerSize& size = {});
 
 }  // namespace trocar

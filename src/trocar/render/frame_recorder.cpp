@@ -10,6 +10,9 @@
 #include <cstdlib>
 
 #include "trocar/core/error.h"
+#ifdef TROCAR_RENDER_TASK_PANEL
+#include "trocar/render/task_panel.h"
+#endif
 
 extern char** environ;
 
@@ -32,12 +35,14 @@ FrameRecorder::FrameRecorder(const World& world, const FrameSettings& settings) 
   std::filesystem::create_directories(settings_.dir, ec);
   if (ec) throw Error(settings_.dir.string() + ": cannot create the frames folder: " + ec.message());
   context_ = std::make_unique<OffscreenContext>(settings_.width, settings_.height, settings_.samples);
-  renderer_ = std::make_unique<Renderer>(world, settings_.textures);
+  renderer_ = std::make_unique<Renderer>(
+      world, SceneLook{settings_.textures, settings_.tissue_appearance, settings_.rigid_appearance});
   view_ = make_camera_view(settings_.camera, double(settings_.width) / double(settings_.height));
 }
 
 FrameRecorder::~FrameRecorder() {
-  renderer_.reset();  // GL objects go while the context is current
+  panel_.reset();  // GL objects go while the context is current
+  renderer_.reset();
   context_.reset();
 }
 
@@ -47,13 +52,29 @@ std::filesystem::path FrameRecorder::frame_path(std::size_t k) const {
   return settings_.dir / name;
 }
 
-void FrameRecorder::on_step(const Simulation& sim) {
+bool FrameRecorder::draws_task_panel() {
+#ifdef TROCAR_RENDER_TASK_PANEL
+  return true;
+#else
+  return false;
+#endif
+}
+
+void FrameRecorder::on_step(const Simulation& sim, const TaskView* task) {
   // Frame k shows time k / fps; a step of dt can pass several frame times at low step rates.
   while (double(frames_) / settings_.fps <= sim.time() + 1e-9) {
     const auto t0 = std::chrono::steady_clock::now();
     capture_view(sim, snapshot_);
     context_->bind();
     renderer_->draw(snapshot_, view_, settings_.options, settings_.width, settings_.height);
+#ifdef TROCAR_RENDER_TASK_PANEL
+    if (task) {
+      if (!panel_) panel_ = std::make_shared<TaskPanelOverlay>();
+      panel_->draw(*task, settings_.width, settings_.height);
+    }
+#else
+    (void)task;
+#endif
     context_->read(image_);
     write_png(frame_path(frames_).c_str(), image_);
     ++frames_;

@@ -10,7 +10,9 @@
 
 #include "trocar/render/camera.h"
 #include "trocar/render/offscreen.h"
+#include "trocar/procedure/task_view.h"
 #include "trocar/render/renderer.h"
+#include "trocar/scene/appearance.h"
 #include "trocar/sim/simulation.h"
 
 namespace trocar {
@@ -29,7 +31,11 @@ struct FrameSettings {
   RenderOptions options;          ///< overlays
   int samples = 4;                ///< multisampling
   std::vector<std::filesystem::path> textures;  ///< per tissue (Scene::textures)
+  std::vector<Appearance> tissue_appearance;    ///< per tissue (Scene::tissue_appearance)
+  std::vector<Appearance> rigid_appearance;     ///< per rigid (Scene::rigid_appearance)
 };
+
+class TaskPanelOverlay;
 
 /// Renders a Simulation's frames as it steps.
 class FrameRecorder {
@@ -37,8 +43,11 @@ class FrameRecorder {
   /// Creates the folder and the EGL context (throws trocar::Error naming what failed).
   FrameRecorder(const World& world, const FrameSettings& settings);
   ~FrameRecorder();
-  /// Renders every frame whose time (k / fps) the simulation has reached since the last call.
-  void on_step(const Simulation& sim);
+  /// Renders every frame whose time (k / fps) the simulation has reached since the last call;
+  /// with a task, its panel drawn at the top right of each (where draws_task_panel()).
+  void on_step(const Simulation& sim, const TaskView* task = nullptr);
+  /// Whether this build draws the task panel into frames (Dear ImGui was found).
+  static bool draws_task_panel();
   /// Frames written so far.
   std::size_t frames() const { return frames_; }
   /// The path of frame k.
@@ -52,6 +61,9 @@ class FrameRecorder {
   FrameSettings settings_;
   std::unique_ptr<OffscreenContext> context_;
   std::unique_ptr<Renderer> renderer_;
+  // Made on the first frame with a task. Shared only so that this header and a build without
+  // Dear ImGui need not see the type complete (the deleter is bound where it is made).
+  std::shared_ptr<TaskPanelOverlay> panel_;
   CameraView view_;
   ViewSnapshot snapshot_;
   Image image_;

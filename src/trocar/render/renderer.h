@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "trocar/render/camera.h"
+#include "trocar/scene/appearance.h"
 #include "trocar/sim/view_snapshot.h"
 #include "trocar/sim/world.h"
 
@@ -32,19 +33,32 @@ struct RenderOptions {
   Real light_range = 0;       ///< headlight half-intensity distance (m); 0 = from the scene's size
 };
 
+/// How the scene's objects look (Scene::textures, tissue_appearance, rigid_appearance); a
+/// missing entry or one not `given` keeps the renderer's default look.
+struct SceneLook {
+  std::vector<std::filesystem::path> textures;  ///< per tissue: a PNG mapped by its UVs (empty: procedural)
+  std::vector<Appearance> tissues;              ///< per tissue
+  std::vector<Appearance> rigids;               ///< per rigid
+};
+
 /// Draws a World's snapshots.
 class Renderer {
  public:
-  /// Uploads the world's static geometry (instrument meshes, rigids, tissue topology). Throws
-  /// trocar::Error when a shader does not compile (the driver's log in the message).
-  /// `textures`: per tissue, a PNG mapped by the mesh's UVs (empty path: the procedural texture;
-  /// Scene::textures). Throws trocar::Error naming an image that cannot be read.
-  explicit Renderer(const World& world, const std::vector<std::filesystem::path>& textures = {});
+  /// Uploads the world's static geometry (instrument meshes, rigids, tissue topology, the tack).
+  /// Throws trocar::Error when a shader does not compile (the driver's log in the message), or
+  /// naming a texture image that cannot be read. A texture is used where its appearance's
+  /// pattern is the default.
+  Renderer(const World& world, const SceneLook& look);
+  /// The same with textures only (Scene::textures) and default appearances.
+  explicit Renderer(const World& world, const std::vector<std::filesystem::path>& textures = {})
+      : Renderer(world, SceneLook{textures, {}, {}}) {}
   ~Renderer();
   Renderer(const Renderer&) = delete;
   Renderer& operator=(const Renderer&) = delete;
 
-  /// Draws into the bound framebuffer's viewport (0, 0, width, height), clearing it first.
+  /// Draws into the bound framebuffer's viewport (0, 0, width, height), clearing it first:
+  /// opaque objects, then the tacks, then translucent objects (opacity < 1) far to near with
+  /// depth writes off, then the overlays.
   void draw(const ViewSnapshot& snapshot, const CameraView& camera, const RenderOptions& options, int width,
             int height);
 
@@ -52,6 +66,11 @@ class Renderer {
   struct Gpu;
   std::unique_ptr<Gpu> gpu_;
 };
+
+/// The helical tack as drawn, in its own frame: a titanium coil 4 mm long and 4 mm across about
+/// +z, its flat head turn and cross-bar at z = +0.5 mm (above the surface) and the coil sinking to
+/// z = −3.5 mm; the origin is where it enters the surface. Closed tubes, metres.
+TriMesh make_tack_mesh();
 
 /// Area-weighted vertex normals of a triangle mesh (unit; zero for unused vertices).
 void vertex_normals(const std::vector<Vec3>& positions, const std::vector<Triangle>& triangles,

@@ -26,6 +26,12 @@ void main() {
 /// Modes: 0 tissue (solid noise texture with vessels, wet specular), 1 metal, 2 flat colour (the
 /// id pass of the tests), 3 textured tissue with the mesh's own UVs in v_texcoord.xy.
 /// Light: a headlight at the eye (the scope's fibre light), falling off with distance.
+/// Compiled twice: as it is for the default look, and with TROCAR_LOOKS defined (kLooksDefine)
+/// for objects with an appearance — mode 4 plain (u_base under the same light as tissue), mode 5
+/// an open knitted weave (the prosthetic mesh) on the plane coordinates in v_texcoord.xy (m),
+/// holes discarded, and u_opacity as the fragment's alpha. The default program's code is thereby
+/// the same as before appearances existed, so default frames stay identical bit for bit (a larger
+/// shader compiles to slightly different arithmetic under llvmpipe).
 inline constexpr const char* kMeshFragment = R"(#version 330 core
 in vec3 v_world;
 in vec3 v_normal;
@@ -41,6 +47,10 @@ uniform float u_light_range;     // m: distance at which the light has fallen to
 uniform float u_vignette;        // 0 = none; else the radius (in half-heights) where darkening starts
 uniform vec2 u_viewport;
 uniform sampler2D u_texture;
+#ifdef TROCAR_LOOKS
+uniform float u_opacity;          // alpha of the fragment (blended when < 1)
+uniform float u_weave_period;     // m: the weave's repeat
+#endif
 
 float hash(vec3 p) {
   p = fract(p * 0.3183099 + vec3(0.71, 0.113, 0.419));
@@ -68,8 +78,37 @@ float vessels(vec3 p) {
   return max(smoothstep(0.972, 0.993, r1), 0.6 * smoothstep(0.978, 0.996, r2));
 }
 
+#ifdef TROCAR_LOOKS
+// A warp-knitted net: two families of filaments along the diagonals of the period cell, each
+// wavy where it loops round the other. Returns (coverage 0..1, the filament's roundness 0..1 for
+// shading); coverage is antialiased over the pixel's footprint and tends to its mean when the
+// net is finer than a few pixels (no moire).
+vec2 weave(vec2 q) {
+  float a = q.x + q.y, b = q.x - q.y;
+  float da = abs(fract(a + 0.07 * sin(6.2831853 * b)) - 0.5);
+  float db = abs(fract(b + 0.07 * sin(6.2831853 * a)) - 0.5);
+  const float w = 0.15;  // half-width of a filament, in periods of a (holes ~ (1 - 2w)^2 of the area)
+  float aa = 0.75 * max(fwidth(a), fwidth(b));
+  float ca = 1.0 - smoothstep(w - aa, w + aa, da);
+  float cb = 1.0 - smoothstep(w - aa, w + aa, db);
+  float coverage = max(ca, cb);
+  float round_a = sqrt(max(0.0, 1.0 - (da / w) * (da / w)));
+  float round_b = sqrt(max(0.0, 1.0 - (db / w) * (db / w)));
+  float roundness = max(round_a, round_b);
+  float fine = smoothstep(0.12, 0.35, aa);
+  return vec2(mix(coverage, 0.6, fine), mix(roundness, 0.7, fine));
+}
+#endif
+
 void main() {
   if (u_mode == 2) { o_color = vec4(u_base, 1.0); return; }
+#ifdef TROCAR_LOOKS
+  vec2 filament = vec2(1.0);
+  if (u_mode == 5) {
+    filament = weave(v_texcoord.xy / u_weave_period);
+    if (filament.x < 0.5) discard;  // a hole: what lies behind shows through
+  }
+#endif
   vec3 n = normalize(v_normal);
   if (!gl_FrontFacing) n = -n;   // open sheets (peritoneum) are lit from both sides
   vec3 to_eye = u_eye - v_world;
@@ -84,8 +123,20 @@ void main() {
     vec3 diffuse = u_base * (0.25 + 0.45 * ndl);
     float spec = 0.9 * pow(ndl, 40.0) + 0.35 * pow(ndl, 6.0);
     color = (diffuse + vec3(spec) + 0.25 * fresnel * vec3(0.8, 0.85, 0.9)) * falloff;
-  } else {
+  }
+#ifdef TROCAR_LOOKS
+  else if (u_mode == 5) {
+    // Polypropylene filament: a round thread lit by the headlight, a tight glossy highlight.
+    float shade = 0.55 + 0.45 * filament.y;
+    float spec = 0.5 * pow(ndl, 30.0) * filament.y;
+    color = (u_base * shade * (0.15 + 0.85 * ndl) + vec3(spec)) * falloff;
+  }
+#endif
+  else {
     vec3 albedo;
+#ifdef TROCAR_LOOKS
+    if (u_mode == 4) albedo = u_base; else
+#endif
     if (u_mode == 3) {
       albedo = texture(u_texture, v_texcoord.xy).rgb;
     } else {
@@ -104,9 +155,16 @@ void main() {
     vec2 c = (gl_FragCoord.xy - 0.5 * u_viewport) / (0.5 * u_viewport.y);
     color *= 1.0 - smoothstep(u_vignette, u_vignette + 0.6, length(c));
   }
+#ifdef TROCAR_LOOKS
+  o_color = vec4(pow(clamp(color, 0.0, 1.0), vec3(1.0 / 2.2)), u_opacity);
+#else
   o_color = vec4(pow(clamp(color, 0.0, 1.0), vec3(1.0 / 2.2)), 1.0);
+#endif
 }
 )";
+
+/// Put after kMeshFragment's first line: its appearance variant.
+inline constexpr const char* kLooksDefine = "#define TROCAR_LOOKS\n";
 
 /// Overlays: lines, points and screen-space quads in one colour.
 inline constexpr const char* kOverlayVertex = R"(#version 330 core

@@ -7,6 +7,7 @@
 #include <backends/imgui_impl_opengl3.h>
 #include <imgui.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -21,6 +22,7 @@
 #include "trocar/render/frame_recorder.h"
 #include "trocar/render/offscreen.h"
 #include "trocar/render/renderer.h"
+#include "trocar/render/task_panel.h"
 #include "trocar/render/viewer_input.h"
 #include "trocar/render/viewer_panel.h"
 #include "trocar/runtime/recording.h"
@@ -44,7 +46,7 @@ struct Session {
   CameraSpec camera;     // the one --camera names, chosen before the runtime starts (the
                          // default camera reads the world, which physics then owns)
   CameraSpec orbit;      // the free camera's start
-  std::vector<fs::path> textures;
+  SceneLook look;          // textures and appearances
   std::unique_ptr<Simulation> sim;
   std::unique_ptr<RecordingWriter> recorder;
   fs::path recording;
@@ -117,7 +119,7 @@ struct Viewer {
     auto next = std::make_unique<Session>();
     next->name = scene.name;
     const std::vector<CameraSpec> cameras = scene.cameras;
-    next->textures = scene.textures;
+    next->look = SceneLook{scene.textures, scene.tissue_appearance, scene.rigid_appearance};
     next->timestep = scene.timestep;
     std::vector<DeviceSpec> next_devices = scene.devices;
     if (options.drive >= 0 && std::size_t(options.drive) < next_devices.size() &&
@@ -149,7 +151,7 @@ struct Viewer {
     devices = std::move(next_devices);
     input.set_command(PortCommand{});
     session->launch(options, devices, input.command());
-    renderer = std::make_unique<Renderer>(session->sim->world(), session->textures);
+    renderer = std::make_unique<Renderer>(session->sim->world(), session->look);
     live.recording = record;
     live.recording_path = session->recording.string();
     live.device = session->device;
@@ -438,6 +440,11 @@ class FrameLoop {
     ImGui::NewFrame();
     PanelActions a;
     if (options.panel) a = draw_panel(v_.edits, v_.render, v_.live);
+    if (const TaskView* task = options.task ? options.task() : nullptr) {
+      const float display = ImGui::GetIO().DisplaySize.x;  // window units (the framebuffer's may differ)
+      const float width = std::clamp(0.3f * display, 200.0f, 420.0f);
+      draw_task_window(*task, display - width - 8, 8, width, false);
+    }
     ImGui::Render();
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
     ++frames_;

@@ -92,4 +92,14 @@ TriMesh generate_hook_probe(const JsonReader& spec) {
   return checked(spec, [&] { return make_hook_probe(size).mesh; });
 }
 
+TriMesh generate_tacker(const JsonReader& spec) {
+  spec.expect_keys({"generate", "shaft_radius", "shaft_length", "bevel", "segments"});
+  TackerSize size;
+  size.shaft_radius = length_or(spec, "shaft_radius", size.shaft_radius);
+  size.shaft_length = length_or(spec, "shaft_length", size.shaft_length);
+  size.bevel = length_or(spec, "bevel", size.bevel);
+  size.segments = count(spec, "segments", static_cast<std::int64_t>(size.segments), 3, 1024);
+  return checked(spec, [&] { return make_tacker(size).mesh; });
+}
+
 }  // namespace trocar

@@ -22,5 +22,7 @@ TriMesh generate_grasper(const JsonReader& spec);
 /// "hook-probe": all optional, defaults of HookSize: shaft_radius, shaft_length, hook_radius,
 /// stem_length, hook_length (m), segments.
 TriMesh generate_hook_probe(const JsonReader& spec);
+/// "tacker": all optional, defaults of TackerSize: shaft_radius, shaft_length, bevel (m), segments.
+TriMesh generate_tacker(const JsonReader& spec);
 
 }  // namespace trocar

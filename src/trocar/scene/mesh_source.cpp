@@ -64,6 +64,7 @@ const std::vector<MeshGenerator>& mesh_generators() {
       {"grasper", generate_grasper, "all optional (5 mm grasper): shaft_radius, shaft_length, jaw_* (m), segments; jaw triangles 0..23"},
       {"prosthetic-mesh", generate_prosthetic_mesh, "width, height (m, required), spacing (m, default 0.005); UVs in metres"},
       {"hook-probe", generate_hook_probe, "all optional (4.5 mm hook): shaft_radius, shaft_length, hook_radius, stem_length, hook_length (m), segments"},
+      {"tacker", generate_tacker, "all optional (5 mm tack applier): shaft_radius, shaft_length, bevel (m), segments"},
   };
   return table;
 }

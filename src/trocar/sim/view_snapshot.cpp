@@ -60,6 +60,21 @@ void capture_view(const Simulation& sim, ViewSnapshot& out) {
       }
   for (InstrumentView& v : out.instruments)
     v.contact_centre = v.contacts > 0 ? Vec3(v.contact_centre / Real(v.contacts)) : v.pose.translation;
+  out.tacks.clear();
+  for (const AttachmentState& a : sim.attachments()) {
+    if (!a.holding) continue;
+    const SurfacePoint& on = a.spec.a;
+    const SurfacePoint& into = a.spec.b;
+    if (on.tissue >= nt || into.tissue >= nt) continue;
+    const TissueBody& first = *world.tissues[on.tissue];
+    const TissueBody& second = *world.tissues[into.tissue];
+    if (on.triangle >= first.settings.triangles.size() || into.triangle >= second.settings.triangles.size()) continue;
+    const Triangle& f = second.settings.triangles[into.triangle];
+    const auto& x = second.state.positions;
+    const Vec3 n = (x[f[1]] - x[f[0]]).cross(x[f[2]] - x[f[0]]);
+    const Real len = n.norm();
+    out.tacks.push_back({surface_position(first.settings, first.state, on), len > 0 ? Vec3(n / len) : Vec3::UnitZ()});
+  }
 }
 
 }  // namespace trocar

@@ -4,7 +4,7 @@
 /// that steps the simulation and read by the renderer on its own thread (through
 /// core/triple_buffer.h), so the renderer never touches the Simulation. Vectors keep their
 /// capacity: after the first capture of a scene, capture_view allocates only when more contacts
-/// appear than ever before.
+/// or tacks appear than ever before.
 #include <cstdint>
 #include <vector>
 
@@ -33,6 +33,14 @@ struct ContactView {
   std::uint32_t instrument = 0; ///< instrument index
 };
 
+/// One holding attachment as drawn (a helical tack): where it enters and the surface's normal
+/// there. The normal's sign is the tissue triangle's winding; the renderer turns the tack's head
+/// towards the camera (the tacker fires from the cavity, where the scope is).
+struct TackView {
+  Vec3 point = Vec3::Zero();    ///< m, on the attachment's first surface (the prosthetic mesh)
+  Vec3 normal = Vec3::Zero();   ///< unit normal of the second surface (the tissue it goes into)
+};
+
 /// One step as the renderer sees it.
 struct ViewSnapshot {
   double time = 0;                               ///< simulated time (s)
@@ -40,6 +48,7 @@ struct ViewSnapshot {
   std::vector<std::vector<Vec3>> tissues;        ///< per tissue, its vertex positions (m)
   std::vector<InstrumentView> instruments;       ///< per instrument
   std::vector<ContactView> contacts;             ///< instrument–tissue contacts
+  std::vector<TackView> tacks;                   ///< holding attachments (torn ones are not drawn)
   StageTimings timings;                          ///< µs per module, last step
   Real cell_size = 0;                            ///< OHC cell edge of the last detection (m; 0: none)
 };
