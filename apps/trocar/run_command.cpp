@@ -129,6 +129,14 @@ void run(const Options& o) {
   std::vector<double> depths, forces;
   std::uint64_t pairs_total = 0, pairs_max = 0, steps_with_contact = 0, tunneling = 0;
   Progress progress(o.quiet, steps);
+  // Scripted actions (scene "events": fire, exchange) due before the next step's end.
+  ActionScript actions(scene.actions);
+  const auto play_actions = [&] {
+    actions.play_before(sim.time() + dt, [&](std::size_t i, std::uint32_t bit) {
+      apply_actions(sim, i, bit, procedure.get());
+    });
+  };
+  play_actions();
   const auto wall0 = std::chrono::steady_clock::now();
   std::size_t done = 0;
   const DriveResult drive_result = drive(sim, dt, steps, [&](const StepMetrics& m) {
@@ -163,8 +171,16 @@ void run(const Options& o) {
               << t.response << "," << t.deformation << "," << t.metrics << "," << t.step << "\n";
     }
 #ifdef TROCAR_HAVE_RENDER
-    if (frames) frames->on_step(sim);
+    if (frames) {
+      if (procedure) {
+        const TaskView view = procedure->view();
+        frames->on_step(sim, &view);
+      } else {
+        frames->on_step(sim);
+      }
+    }
 #endif
+    play_actions();
     progress.update(++done, m.time);
   });
   const bool stable = drive_result.stable;

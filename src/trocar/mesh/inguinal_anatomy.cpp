@@ -402,7 +402,7 @@ InguinalAnatomy make_tapp_anatomy(HerniaKind kind, const TappOptions& o) {
     std::vector<std::uint32_t> neck;
     s.mesh = inguinal::make_sac(centre, n, e1, axis, out.defect_radius - 0.001, 0.004, sac_length, o.sac_segments,
                                 o.sac_rings, neck);
-    s.fixed = neck;
+    if (o.sac_neck_fixed) s.fixed = neck;
     s.material_preset = "soft";
     s.material = {{"k_home", o.sac_k_home}};
     s.colour = kSac.colour;

@@ -263,6 +263,11 @@ void Procedure::watch_mesh(const Simulation& sim) {
   }
 }
 
+void Procedure::fire(Simulation& sim, std::size_t instrument) {
+  if (instrument < sim.world().instruments.size() && sim.world().instruments[instrument].tool == "tacker")
+    fire_tacker(sim, instrument);
+}
+
 const TackRecord& Procedure::fire_tacker(Simulation& sim, std::size_t instrument) {
   tacks_.push_back(trocar::fire_tacker(sim, instrument, tacker_rules_.at(instrument), zones_, tack_landmarks_));
   const TackRecord& r = tacks_.back();

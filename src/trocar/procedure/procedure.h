@@ -12,6 +12,7 @@
 
 #include "trocar/core/types.h"
 #include "trocar/geometry/zone.h"
+#include "trocar/procedure/actions.h"
 #include "trocar/procedure/task.h"
 #include "trocar/procedure/task_measures.h"
 #include "trocar/procedure/task_view.h"
@@ -65,8 +66,9 @@ struct TaskMeasures {
   int zone_tacks = 0;        ///< tacks with the tip in a named zone
 };
 
-/// The procedure. Not copyable (holds per-instrument state sized once).
-class Procedure {
+/// The procedure. Not copyable (holds per-instrument state sized once). It is also the handler
+/// of the fire action (procedure/actions.h): a press fires the port's instrument if it is a tacker.
+class Procedure final : public ActionHandler {
  public:
   /// Resolves the spec's tissue names and landmarks; throws trocar::Error naming the missing one.
   Procedure(TaskSpec spec, const World& world, std::span<const NamedZone> zones,
@@ -80,6 +82,9 @@ class Procedure {
   /// Fires instrument `instrument` as a tacker (fire_tacker with the task's rules, zones and tack
   /// landmarks); records the tack and logs it (and the error when it is in a zone).
   const TackRecord& fire_tacker(Simulation& sim, std::size_t instrument);
+  /// The fire action: fire_tacker() when instrument i is a "tacker" (InstrumentBody::tool); a
+  /// press on any other instrument does nothing.
+  void fire(Simulation& sim, std::size_t instrument) override;
   /// Gives instrument i's tacker tip (local frame) instead of the default from its box.
   void set_tacker_tip(std::size_t instrument, const Vec3& tip_local, const Vec3& axis_local);
 

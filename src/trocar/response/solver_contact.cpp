@@ -142,13 +142,24 @@ void InstrumentContacts::find_candidates(PerInstrument& p, const XpbdView& view)
     return x.x >= b.min.x() && x.x <= b.max.x() && x.y >= b.min.y() && x.y <= b.max.y() && x.z >= b.min.z() &&
            x.z <= b.max.z();
   };
+  // The axis-aligned box of a long shaft lying obliquely over a sheet holds most of the sheet;
+  // the instrument's own boxes at both poses, grown by the same margins plus the step's sweep
+  // (translation, and the rotation's arc at the box's far corner), hold only what it can reach.
+  const Obb from = p.from.apply(local), to = p.to.apply(local);
+  const Real angle = p.from.rotation.angularDistance(p.to.rotation);
+  const Real sweep = (p.to.translation - p.from.translation).norm() + angle * (local.center.norm() + local.half_extents.norm());
+  const Real grow = kReach + settings_.contact_margin + sweep;
+  const auto near_obb = [&](const XpbdParticle& x, Real g) {
+    const Vec3 q(x.x, x.y, x.z);
+    return from.contains(q, g) || to.contains(q, g);
+  };
   p.candidates.clear();
   p.near.clear();
   for (std::size_t v = 0; v < view.x.size(); ++v) {
     const XpbdParticle& x = view.x[v];
-    if (!inside(x, wide)) continue;
+    if (!inside(x, wide) || !near_obb(x, grow + longest_edge_)) continue;
     p.near.push_back(static_cast<std::uint32_t>(v));
-    if (x.w == 0.f || is_held_[v] != 0 || !inside(x, box)) continue;
+    if (x.w == 0.f || is_held_[v] != 0 || !inside(x, box) || !near_obb(x, grow)) continue;
     p.candidates.push_back(static_cast<std::uint32_t>(v));
   }
 }

@@ -50,7 +50,7 @@ TissueContactSolver::TissueContactSolver(std::vector<ContactTissue> tissues, std
         bodies_.back().tissue = static_cast<std::uint32_t>(t);
       }
       Body& body = bodies_[static_cast<std::size_t>(body_of_[t])];
-      body.reach = std::max(body.reach, p.thickness);
+      body.reach = std::max(body.reach, p.thickness + (p.adhesion > 0 ? p.adhesion_range : 0));
     }
   std::size_t vertices = 0;
   for (Body& body : bodies_) {
@@ -118,6 +118,9 @@ void TissueContactSolver::gather(const TissueContactPair& pair, Body& vb, Body& 
       c_.direction = Vec3::Zero();
       c_.bary = Vec3::Zero();
       c_.touching = false;
+      c_.adhered = false;
+      c_.adhesion = pair.adhesion;
+      c_.adhesion_range = pair.adhesion_range;
       c_.corrected = false;
       candidates_.push_back(c_);
     });
@@ -133,6 +136,7 @@ void TissueContactSolver::project_contact(Candidate& c) {
   Vec3& p = vstate.positions[c.vertex];
   const Vec3 &a = tstate.positions[tri[0]], &b = tstate.positions[tri[1]], &cc = tstate.positions[tri[2]];
   c.touching = false;
+  c.adhered = false;
   const Vec3 normal_area = (b - a).cross(cc - a);
   const Real area2 = normal_area.norm();
   if (!(area2 > 0)) return;
@@ -156,10 +160,18 @@ void TissueContactSolver::project_contact(Candidate& c) {
       direction = -direction;
       distance = -distance;
     }
-    if (distance >= c.thickness) return;
   }
   const Real violation = c.thickness - distance;
-  if (violation <= 0) return;
+  if (violation <= 0) {
+    // Beyond the gap: held by adhesion when within its range (velocities only, after the sweeps).
+    if (c.adhesion > 0 && -violation <= c.adhesion_range) {
+      c.adhered = true;
+      c.excess = -violation;
+      c.direction = direction;
+      c.bary = q.barycentric;
+    }
+    return;
+  }
   if (violation > c.reach) return;  // deeper than this step's motion explains: not this triangle's
   c.touching = true;
   c.direction = direction;
@@ -199,6 +211,33 @@ void TissueContactSolver::contact_velocities(const Candidate& c) {
   Vec3 change = -approach * c.direction;
   if (slip > 0) change -= std::min(slip, c.friction * -approach) * (tangential / slip);
   const Vec3 impulse = change / w;  // per unit of w: Δv_p = w_p·impulse, Δv_i = −β_i w_i·impulse
+  vstate.velocities[c.vertex] += wp * impulse;
+  for (int k = 0; k < 3; ++k) tstate.velocities[tri[k]] -= c.bary[k] * wt[k] * impulse;
+}
+
+void TissueContactSolver::adhesion_velocities(const Candidate& c, Real dt) {
+  MassSpringState& vstate = *tissues_[c.vertex_tissue].state;
+  MassSpringState& tstate = *tissues_[c.triangle_tissue].state;
+  const MassSpringSettings& vs = *tissues_[c.vertex_tissue].settings;
+  const MassSpringSettings& ts = *tissues_[c.triangle_tissue].settings;
+  const Triangle& tri = ts.triangles[c.triangle];
+  const Real wp = vs.inverse_masses[c.vertex];
+  const Real wt[3] = {ts.inverse_masses[tri[0]], ts.inverse_masses[tri[1]], ts.inverse_masses[tri[2]]};
+  const Real w = wp + c.bary[0] * c.bary[0] * wt[0] + c.bary[1] * c.bary[1] * wt[1] + c.bary[2] * c.bary[2] * wt[2];
+  if (!(w > 0)) return;
+  const Vec3 relative = vstate.velocities[c.vertex] - c.bary[0] * tstate.velocities[tri[0]] -
+                        c.bary[1] * tstate.velocities[tri[1]] - c.bary[2] * tstate.velocities[tri[2]];
+  // The same bound on the position: back toward the gap by at most adhesion·dt² (what gravity
+  // moved it away this step, when adhesion exceeds gravity), never past the gap.
+  const Real pull = std::min(c.excess, c.adhesion * dt * dt) / w;
+  vstate.positions[c.vertex] -= wp * pull * c.direction;
+  for (int k = 0; k < 3; ++k) tstate.positions[tri[k]] += c.bary[k] * wt[k] * pull * c.direction;
+  const Real separating = c.direction.dot(relative);
+  if (separating <= 0) return;
+  // A bounded pull: the separating speed loses at most adhesion·dt per step (a force of at most
+  // m·adhesion on the vertex), so a light wet mesh stays where it was laid, and a grasper that
+  // lifts it peels it off.
+  const Vec3 impulse = -std::min(separating, c.adhesion * dt) * c.direction / w;
   vstate.velocities[c.vertex] += wp * impulse;
   for (int k = 0; k < 3; ++k) tstate.velocities[tri[k]] -= c.bary[k] * wt[k] * impulse;
 }
@@ -269,6 +308,7 @@ void TissueContactSolver::solve(Real dt, Real time) {
   }
   for (const Candidate& c : candidates_) {
     if (c.touching) contact_velocities(c);
+    else if (c.adhered) adhesion_velocities(c, dt);
     if (c.corrected) ++corrected_;
   }
   for (std::size_t i = 0; i < attachments_.size(); ++i) {

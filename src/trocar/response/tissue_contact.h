@@ -23,6 +23,11 @@ struct TissueContactPair {
   std::size_t b = 0;         ///< tissue index (== a: self contact)
   Real thickness = 1e-3;     ///< the gap kept between the surfaces (m)
   Real friction = 0.3;       ///< Coulomb coefficient of the tangential correction
+  /// Adhesion (m/s²): the largest acceleration with which a surface holds a vertex that lies
+  /// within `adhesion_range` beyond the gap and moves away from it (a wet mesh clinging to moist
+  /// tissue; docs/response.md, "Adhesion"). 0: none.
+  Real adhesion = 0;
+  Real adhesion_range = 0.002;  ///< m beyond the gap within which adhesion holds
 };
 
 /// A point on a tissue's surface, carried by the triangle it lies in.
@@ -102,6 +107,10 @@ class TissueContactSolver {
     Vec3 direction;   ///< last iteration: the unit direction that separates
     Vec3 bary;        ///< last iteration: the closest point's barycentric weights
     bool touching;    ///< last iteration: within the gap
+    bool adhered;     ///< last iteration: beyond the gap but within the adhesion range
+    Real adhesion;    ///< the pair's adhesion (m/s²) and range (m)
+    Real adhesion_range;
+    Real excess;      ///< last iteration, when adhered: how far beyond the gap (m)
     bool corrected;   ///< moved at least once this solve
   };
 
@@ -109,6 +118,7 @@ class TissueContactSolver {
   void project_contact(Candidate& c);
   void project_attachment(std::size_t i, Real alpha, Real dt);
   void contact_velocities(const Candidate& c);
+  void adhesion_velocities(const Candidate& c, Real dt);
 
   std::vector<ContactTissue> tissues_;
   std::vector<TissueContactPair> pairs_;

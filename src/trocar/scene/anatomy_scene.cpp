@@ -28,7 +28,7 @@ void add_structure(const AnatomyStructure& s, Scene& scene) {
   look.given = true;
   look.colour = s.colour;
   look.opacity = s.opacity;
-  look.pattern = SurfacePattern::kPlain;
+  look.pattern = SurfacePattern::kDefault;  // the tissue texture in the structure's colour
   if (s.role == StructureRole::kRigid) {
     scene.world.add_rigid(s.name, s.mesh);
     scene.rigid_appearance.push_back(look);
@@ -51,7 +51,7 @@ void add_structure(const AnatomyStructure& s, Scene& scene) {
 
 void read_anatomy(const JsonReader& spec, Scene& scene) {
   spec.expect_keys({"generate", "hernia", "cell", "tube_segments", "tube_spacing", "sac_segments", "sac_rings",
-                    "defect_diameter", "sac_length", "sac_k_home"});
+                    "defect_diameter", "sac_length", "sac_k_home", "sac_neck_fixed"});
   const JsonReader gen = spec.at("generate");
   if (gen.string() != "tapp-inguinal") gen.fail("unknown anatomy \"" + gen.string() + "\" (known: tapp-inguinal)");
   const JsonReader h = spec.at("hernia");
@@ -79,6 +79,7 @@ void read_anatomy(const JsonReader& spec, Scene& scene) {
   length("defect_diameter", o.defect_diameter, 0.01, 0.024);
   length("sac_length", o.sac_length, 0.005, 0.08);
   length("sac_k_home", o.sac_k_home, 0, 1e4);
+  o.sac_neck_fixed = spec.boolean_or("sac_neck_fixed", o.sac_neck_fixed);
   InguinalAnatomy anatomy;
   try {
     anatomy = make_tapp_anatomy(kind, o);

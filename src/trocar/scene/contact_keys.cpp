@@ -21,12 +21,14 @@ std::size_t tissue_named(const JsonReader& key, const Scene& scene) {
 void read_tissue_contacts(const JsonReader& list, Scene& scene) {
   for (std::size_t i = 0; i < list.array_size(); ++i) {
     const JsonReader c = list.at(i);
-    c.expect_keys({"a", "b", "thickness", "friction"});
+    c.expect_keys({"a", "b", "thickness", "friction", "adhesion", "adhesion_range"});
     TissueContactPair pair;
     pair.a = tissue_named(c.at("a"), scene);
     pair.b = tissue_named(c.at("b"), scene);
     if (c.has("thickness")) pair.thickness = c.at("thickness").number_above(0);
     if (c.has("friction")) pair.friction = c.at("friction").number_at_least(0);
+    if (c.has("adhesion")) pair.adhesion = c.at("adhesion").number_at_least(0);
+    if (c.has("adhesion_range")) pair.adhesion_range = c.at("adhesion_range").number_above(0);
     scene.settings.tissue_contacts.push_back(pair);
   }
 }
