@@ -99,9 +99,9 @@ class TissueContactSolver {
     Real thickness;   ///< the pair's gap (m)
     Real friction;    ///< the pair's Coulomb coefficient
     Real reach;       ///< the deepest violation this step's motion can explain (m)
-    Vec3 direction;   ///< last iteration: the unit direction that separates
-    Vec3 bary;        ///< last iteration: the closest point's barycentric weights
-    bool touching;    ///< last iteration: within the gap
+    Vec3 direction;   ///< last correction: the unit direction that separates
+    Vec3 bary;        ///< last correction: the closest point's barycentric weights
+    bool touching;    ///< pushed apart in some sweep of this solve (its velocity is corrected)
     bool corrected;   ///< moved at least once this solve
   };
 
