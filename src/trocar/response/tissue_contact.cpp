@@ -135,7 +135,6 @@ void TissueContactSolver::project_contact(Candidate& c) {
   const Triangle& tri = ts.triangles[c.triangle];
   Vec3& p = vstate.positions[c.vertex];
   const Vec3 &a = tstate.positions[tri[0]], &b = tstate.positions[tri[1]], &cc = tstate.positions[tri[2]];
-  c.touching = false;
   c.adhered = false;
   const Vec3 normal_area = (b - a).cross(cc - a);
   const Real area2 = normal_area.norm();

@@ -104,13 +104,13 @@ class TissueContactSolver {
     Real thickness;   ///< the pair's gap (m)
     Real friction;    ///< the pair's Coulomb coefficient
     Real reach;       ///< the deepest violation this step's motion can explain (m)
-    Vec3 direction;   ///< last iteration: the unit direction that separates
-    Vec3 bary;        ///< last iteration: the closest point's barycentric weights
-    bool touching;    ///< last iteration: within the gap
-    bool adhered;     ///< last iteration: beyond the gap but within the adhesion range
+    Vec3 direction;   ///< last correction: the unit direction that separates
+    Vec3 bary;        ///< last correction: the closest point's barycentric weights
+    bool touching;    ///< pushed apart in some sweep of this solve (its velocity is corrected)
+    bool adhered;     ///< last sweep: beyond the gap but within the adhesion range
     Real adhesion;    ///< the pair's adhesion (m/s²) and range (m)
     Real adhesion_range;
-    Real excess;      ///< last iteration, when adhered: how far beyond the gap (m)
+    Real excess;      ///< last sweep, when adhered: how far beyond the gap (m)
     bool corrected;   ///< moved at least once this solve
   };
 
