@@ -47,6 +47,20 @@ class BroadPhase {
   virtual void find_pairs(std::span<const CollisionObject> objects, std::vector<CandidatePair>& out) = 0;
   /// Which broad phase this is.
   virtual BroadPhaseKind kind() const = 0;
+  /// With true, only pairs with an instrument are returned (the simulator's step: tissue against
+  /// tissue is answered by the tissue contact solver, response/tissue_contact.h, from its own
+  /// proximity search, so the detector need not find those pairs at all).
+  void set_instrument_pairs_only(bool on) { instrument_pairs_only_ = on; }
+  bool instrument_pairs_only() const { return instrument_pairs_only_; }
+
+ protected:
+  /// Whether objects of these roles are tested against each other.
+  bool tested(ObjectRole a, ObjectRole b) const {
+    return roles_tested(a, b) && (!instrument_pairs_only_ || a == ObjectRole::kInstrument || b == ObjectRole::kInstrument);
+  }
+
+ private:
+  bool instrument_pairs_only_ = false;
 };
 
 /// A new broad phase of the given kind with default settings.

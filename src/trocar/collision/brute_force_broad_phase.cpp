@@ -8,7 +8,7 @@ void BruteForceBroadPhase::find_pairs(std::span<const CollisionObject> objects,
   const auto n = static_cast<std::uint32_t>(objects.size());
   for (std::uint32_t i = 0; i < n; ++i) {
     for (std::uint32_t j = i + 1; j < n; ++j) {
-      if (!roles_tested(objects[i].role, objects[j].role)) continue;
+      if (!tested(objects[i].role, objects[j].role)) continue;
       const Aabb bi = object_box(objects[i]);
       const Aabb bj = object_box(objects[j]);
       if (bi.is_empty() || bj.is_empty() || !bi.overlaps(bj)) continue;

@@ -30,7 +30,7 @@ void BvhBroadPhase::find_pairs(std::span<const CollisionObject> objects, std::ve
   for (std::uint32_t i = 0; i < n; ++i) trees_[i].refitted = false;
   for (std::uint32_t i = 0; i < n; ++i) {
     for (std::uint32_t j = i + 1; j < n; ++j) {
-      if (!roles_tested(objects[i].role, objects[j].role)) continue;
+      if (!tested(objects[i].role, objects[j].role)) continue;
       if (objects[i].triangles.empty() || objects[j].triangles.empty()) continue;
       const bool i_first = object_first(objects[i].role, i, objects[j].role, j);
       const std::uint32_t oa = i_first ? i : j;

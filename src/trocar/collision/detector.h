@@ -46,6 +46,8 @@ class CollisionDetector {
   const OhcStats* ohc_stats() const;
   /// The broad phase's candidate pairs of the last frame.
   std::span<const CandidatePair> candidates() const { return candidates_; }
+  /// Only pairs with an instrument (BroadPhase::set_instrument_pairs_only).
+  void set_instrument_pairs_only(bool on) { broad_phase_->set_instrument_pairs_only(on); }
   /// The last frame's contacts.
   std::span<const Contact> contacts() const { return contacts_; }
   /// Timings and counts of the last frame.

@@ -457,7 +457,7 @@ void OhcBroadPhase::find_overlapping_objects(std::span<const CollisionObject> ob
   for (std::uint32_t i = 0; i < n; ++i) {
     if (boxes_[i].is_empty()) continue;
     for (std::uint32_t j = i + 1; j < n; ++j) {
-      if (boxes_[j].is_empty() || !roles_tested(objects[i].role, objects[j].role)) continue;
+      if (boxes_[j].is_empty() || !tested(objects[i].role, objects[j].role)) continue;
       if (!boxes_[i].overlaps(boxes_[j])) continue;
       tested_[static_cast<std::size_t>(i) * n + j] = 1;
       tested_[static_cast<std::size_t>(j) * n + i] = 1;

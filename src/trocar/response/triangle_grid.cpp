@@ -27,7 +27,7 @@ void TriangleGrid::reset(std::size_t triangle_count, Real cell_size) {
   mask_ = static_cast<std::uint32_t>(buckets - 1);
   start_.assign(buckets + 1, 0);
   entries_.clear();
-  entries_.reserve(8 * triangle_count);
+  entries_.reserve(27 * triangle_count);  // a box over 3 cells on every axis, each triangle
   stamp_.assign(triangle_count, 0);
   query_ = 0;
 }
@@ -62,7 +62,8 @@ void TriangleGrid::build(std::span<const Vec3> lo, std::span<const Vec3> hi) {
         }
   }
   for (std::size_t b = 1; b < start_.size(); ++b) start_[b] += start_[b - 1];
-  if (entries_.size() < total) entries_.resize(total);
+  // Grown with room to spare: boxes that swell a little each step must not reallocate each step.
+  if (entries_.size() < total) entries_.resize(std::max(total, 2 * entries_.size()));
   for (std::size_t t = 0; t < lo.size(); ++t) {
     const CellRange r = range(lo[t], hi[t]);
     for (std::int64_t z = r.z0; z <= r.z1; ++z)

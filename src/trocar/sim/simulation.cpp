@@ -70,6 +70,9 @@ Simulation::Simulation(World world, const SimulationSettings& settings)
   const std::size_t ni = world_.instruments.size();
   const std::size_t nt = world_.tissues.size();
   commands_.resize(ni);
+  // Only instrument contacts are answered by the step's responses; tissue against tissue is the
+  // tissue contact solver's (with its own search), rigid obstacles are only drawn.
+  detector_.set_instrument_pairs_only(true);
   // Ports: instruments naming the same port share one group; the first of a group is inside.
   phase_.assign(ni, PortPhase::kInside);
   port_of_.resize(ni);
