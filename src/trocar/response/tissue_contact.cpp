@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <limits>
 
 #include "trocar/geometry/closest_point.h"
@@ -232,11 +234,15 @@ void TissueContactSolver::adhesion_velocities(const Candidate& c, Real dt) {
   vstate.positions[c.vertex] -= wp * pull * c.direction;
   for (int k = 0; k < 3; ++k) tstate.positions[tri[k]] += c.bary[k] * wt[k] * pull * c.direction;
   const Real separating = c.direction.dot(relative);
-  if (separating <= 0) return;
   // A bounded pull: the separating speed loses at most adhesion·dt per step (a force of at most
   // m·adhesion on the vertex), so a light wet mesh stays where it was laid, and a grasper that
-  // lifts it peels it off.
-  const Vec3 impulse = -std::min(separating, c.adhesion * dt) * c.direction / w;
+  // lifts it peels it off; the pull presses it as a normal force would, so Coulomb friction takes
+  // up to μ·adhesion·dt off its sliding speed (it does not slide down a tilted wall).
+  const Vec3 tangential = relative - separating * c.direction;
+  const Real slip = tangential.norm();
+  Vec3 change = -std::clamp(separating, Real{0}, c.adhesion * dt) * c.direction;
+  if (slip > 0) change -= std::min(slip, c.friction * c.adhesion * dt) * (tangential / slip);
+  const Vec3 impulse = change / w;
   vstate.velocities[c.vertex] += wp * impulse;
   for (int k = 0; k < 3; ++k) tstate.velocities[tri[k]] -= c.bary[k] * wt[k] * impulse;
 }

@@ -1,5 +1,8 @@
 #include "trocar/scene/contact_keys.h"
 
+#include <cmath>
+#include <limits>
+
 #include "trocar/core/error.h"
 #include "trocar/mesh/prosthetic_mesh.h"
 
@@ -45,6 +48,39 @@ void read_tissue_roll(const JsonReader& r, TissueBody& tissue) {
     roll_sheet(tissue.state.positions, roll);
   } catch (const Error& e) {
     r.fail(e.what());
+  }
+}
+
+void read_tissue_lay_on(const JsonReader& spec, const World& world, std::vector<Vec3>& positions) {
+  spec.expect_keys({"tissues", "gap"});
+  const Real gap = spec.has("gap") ? spec.at("gap").number_at_least(0) : 0.0015;
+  const JsonReader names = spec.at("tissues");
+  std::vector<const TissueBody*> under;
+  for (std::size_t k = 0; k < names.array_size(); ++k) {
+    const JsonReader n = names.at(k);
+    const TissueBody* found = nullptr;
+    for (const auto& t : world.tissues)
+      if (t->name == n.string()) found = t.get();
+    if (found == nullptr) n.fail("no earlier tissue named \"" + n.string() + "\"");
+    under.push_back(found);
+  }
+  for (Vec3& p : positions) {
+    Real top = -std::numeric_limits<Real>::infinity();
+    for (const TissueBody* t : under) {
+      const std::vector<Vec3>& x = t->state.positions;
+      for (const Triangle& tri : t->settings.triangles) {
+        // The triangle's height over (p.x, p.y), from its barycentric coordinates in the xy plane.
+        const Vec3 &a = x[tri[0]], &b = x[tri[1]], &c = x[tri[2]];
+        const Real det = (b.y() - c.y()) * (a.x() - c.x()) + (c.x() - b.x()) * (a.y() - c.y());
+        if (std::abs(det) < 1e-18) continue;
+        const Real l0 = ((b.y() - c.y()) * (p.x() - c.x()) + (c.x() - b.x()) * (p.y() - c.y())) / det;
+        const Real l1 = ((c.y() - a.y()) * (p.x() - c.x()) + (a.x() - c.x()) * (p.y() - c.y())) / det;
+        const Real l2 = 1 - l0 - l1;
+        if (l0 < 0 || l1 < 0 || l2 < 0) continue;
+        top = std::max(top, l0 * a.z() + l1 * b.z() + l2 * c.z());
+      }
+    }
+    if (std::isfinite(top)) p.z() = top + gap;
   }
 }
 

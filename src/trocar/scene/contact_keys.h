@@ -20,4 +20,10 @@ void read_tissue_roll(const JsonReader& roll, TissueBody& tissue);
 /// "prosthetic-mesh": width, height (m, required), spacing (m, default 0.005).
 TriMesh generate_prosthetic_mesh(const JsonReader& spec);
 
+/// A tissue's "lay_on": {"tissues": [names], "gap": m}: each of its mesh's vertices (before the
+/// model is built, so the laid shape is also its rest shape) moves along z to `gap` above the highest point of the named tissues' surfaces
+/// under it (vertices over none stay): a cloth laid on the anatomy, e.g. the prosthetic mesh on
+/// the wall. The named tissues must come earlier in the scene. Throws naming the key.
+void read_tissue_lay_on(const JsonReader& spec, const World& world, std::vector<Vec3>& positions);
+
 }  // namespace trocar

@@ -111,9 +111,10 @@ IntegratorKind read_integrator(const JsonReader& obj) {
 
 void read_tissue(const JsonReader& t, std::size_t index, Scene& scene, const std::filesystem::path& dir) {
   t.expect_keys({"name", "mesh", "scale", "translate", "rotate_deg", "repair", "material", "fixed", "integrator",
-                 "substeps", "texture", "appearance", "roll"});
+                 "substeps", "texture", "appearance", "roll", "lay_on"});
   const std::string name = name_or(t, "tissue", index);
-  const TriMesh file_mesh = placed_mesh(t, dir);
+  TriMesh file_mesh = placed_mesh(t, dir);
+  if (t.has("lay_on")) read_tissue_lay_on(t.at("lay_on"), scene.world, file_mesh.positions);  // contact_keys.h
   const MassSpringMaterial material = t.has("material") ? read_material(t.at("material")) : MassSpringMaterial{};
   FixedSelection fixed = t.has("fixed") ? read_fixed(t.at("fixed"), file_mesh.vertex_count()) : FixedSelection{};
   const IntegratorKind kind = read_integrator(t);
