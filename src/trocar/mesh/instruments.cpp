@@ -67,6 +67,29 @@ InstrumentMesh make_grasper(const GrasperSize& size) {
   return out;
 }
 
+namespace {
+
+/// Closes a stack of `rings` rings of `s` vertices each (positions 0 … rings·s − 1, in order),
+/// followed by the centres of its first and last cap: a band of triangles between consecutive
+/// rings and a fan on each end, then outward orientation. The hook's and the tacker's bodies.
+void close_ring_stack(TriMesh& m, std::size_t rings, std::size_t s) {
+  const std::size_t first_centre = rings * s;
+  for (std::size_t k = 0; k + 1 < rings; ++k)
+    for (std::size_t i = 0; i < s; ++i) {
+      const std::size_t j = (i + 1) % s, lo = k * s, hi = (k + 1) * s;
+      m.triangles.push_back({u32(lo + i), u32(lo + j), u32(hi + j)});
+      m.triangles.push_back({u32(lo + i), u32(hi + j), u32(hi + i)});
+    }
+  for (std::size_t i = 0; i < s; ++i) {
+    const std::size_t j = (i + 1) % s;
+    m.triangles.push_back({u32(first_centre), u32(j), u32(i)});
+    m.triangles.push_back({u32(first_centre + 1), u32(first_centre - s + i), u32(first_centre - s + j)});
+  }
+  orient_outward(m);
+}
+
+}  // namespace
+
 InstrumentMesh make_hook_probe(const HookSize& size) {
   require(positive(size.shaft_radius) && positive(size.shaft_length), "hook shaft sizes must be positive");
   require(positive(size.hook_radius) && size.hook_radius < size.shaft_radius, "hook wire radius must be in (0, shaft radius)");
@@ -95,21 +118,9 @@ InstrumentMesh make_hook_probe(const HookSize& size) {
       const Real a = 2 * kPi * static_cast<Real>(i) / static_cast<Real>(s);
       m.positions.emplace_back(ring[0] * std::cos(a), ring[0] * std::sin(a), ring[1]);
     }
-  const std::size_t foot_centre = m.positions.size();
-  m.positions.emplace_back(size.hook_length, 0, r);
+  m.positions.emplace_back(size.hook_length, 0, r);  // the foot's cap centre, then the shaft's
   m.positions.emplace_back(0, 0, top);
-  for (std::size_t k = 0; k < 4; ++k)
-    for (std::size_t i = 0; i < s; ++i) {
-      const std::size_t j = (i + 1) % s, lo = k * s, hi = (k + 1) * s;
-      m.triangles.push_back({u32(lo + i), u32(lo + j), u32(hi + j)});
-      m.triangles.push_back({u32(lo + i), u32(hi + j), u32(hi + i)});
-    }
-  for (std::size_t i = 0; i < s; ++i) {
-    const std::size_t j = (i + 1) % s;
-    m.triangles.push_back({u32(foot_centre), u32(j), u32(i)});
-    m.triangles.push_back({u32(foot_centre + 1), u32(4 * s + i), u32(4 * s + j)});
-  }
-  orient_outward(m);
+  close_ring_stack(m, 5, s);
   return out;
 }
 
@@ -128,21 +139,9 @@ InstrumentMesh make_tacker(const TackerSize& size) {
       const Real a = 2 * kPi * static_cast<Real>(i) / static_cast<Real>(s);
       m.positions.emplace_back(ring[0] * std::cos(a), ring[0] * std::sin(a), ring[1]);
     }
-  const std::size_t tip_centre = m.positions.size();
-  m.positions.emplace_back(0, 0, 0);
+  m.positions.emplace_back(0, 0, 0);  // the tip's cap centre, then the shaft's
   m.positions.emplace_back(0, 0, size.shaft_length);
-  for (std::size_t k = 0; k < 2; ++k)
-    for (std::size_t i = 0; i < s; ++i) {
-      const std::size_t j = (i + 1) % s, lo = k * s, hi = (k + 1) * s;
-      m.triangles.push_back({u32(lo + i), u32(lo + j), u32(hi + j)});
-      m.triangles.push_back({u32(lo + i), u32(hi + j), u32(hi + i)});
-    }
-  for (std::size_t i = 0; i < s; ++i) {
-    const std::size_t j = (i + 1) % s;
-    m.triangles.push_back({u32(tip_centre), u32(j), u32(i)});
-    m.triangles.push_back({u32(tip_centre + 1), u32(2 * s + i), u32(2 * s + j)});
-  }
-  orient_outward(m);
+  close_ring_stack(m, 3, s);
   out.tip = Vec3::Zero();
   out.tip_axis = -Vec3::UnitZ();
   return out;

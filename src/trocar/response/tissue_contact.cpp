@@ -5,8 +5,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <limits>
 
 #include "trocar/geometry/closest_point.h"
@@ -191,7 +189,7 @@ void TissueContactSolver::project_contact(Candidate& c) {
   c.corrected = true;
 }
 
-void TissueContactSolver::contact_velocities(const Candidate& c) {
+void TissueContactSolver::contact_velocities(const Candidate& c, Real dt) {
   MassSpringState& vstate = *tissues_[c.vertex_tissue].state;
   MassSpringState& tstate = *tissues_[c.triangle_tissue].state;
   const MassSpringSettings& vs = *tissues_[c.vertex_tissue].settings;
@@ -203,46 +201,30 @@ void TissueContactSolver::contact_velocities(const Candidate& c) {
   if (!(w > 0)) return;
   const Vec3 relative = vstate.velocities[c.vertex] - c.bary[0] * tstate.velocities[tri[0]] -
                         c.bary[1] * tstate.velocities[tri[1]] - c.bary[2] * tstate.velocities[tri[2]];
-  const Real approach = c.direction.dot(relative);
-  if (approach >= 0) return;  // separating already
-  // Inelastic: the normal relative velocity goes to zero; Coulomb friction takes up to μ times
-  // that change off the tangential relative velocity.
-  const Vec3 tangential = relative - approach * c.direction;
+  const Real normal = c.direction.dot(relative);  // > 0: separating
+  const Vec3 tangential = relative - normal * c.direction;
   const Real slip = tangential.norm();
-  Vec3 change = -approach * c.direction;
-  if (slip > 0) change -= std::min(slip, c.friction * -approach) * (tangential / slip);
+  Vec3 change;
+  if (c.touching) {
+    if (normal >= 0) return;  // separating already
+    // Inelastic: the normal relative velocity goes to zero; Coulomb friction takes up to μ times
+    // that change off the tangential relative velocity.
+    change = -normal * c.direction;
+    if (slip > 0) change -= std::min(slip, c.friction * -normal) * (tangential / slip);
+  } else {
+    // Adhered: the position returns toward the gap by at most adhesion·dt² (what gravity moved it
+    // away this step, when adhesion exceeds gravity), never past the gap. The separating speed
+    // loses at most adhesion·dt per step (a force of at most m·adhesion on the vertex), so a
+    // light wet mesh stays where it was laid and a grasper that lifts it peels it off; the pull
+    // presses it as a normal force would, so Coulomb friction takes up to μ·adhesion·dt off its
+    // sliding speed (it does not slide down a tilted wall).
+    const Real pull = std::min(c.excess, c.adhesion * dt * dt) / w;
+    vstate.positions[c.vertex] -= wp * pull * c.direction;
+    for (int k = 0; k < 3; ++k) tstate.positions[tri[k]] += c.bary[k] * wt[k] * pull * c.direction;
+    change = -std::clamp(normal, Real{0}, c.adhesion * dt) * c.direction;
+    if (slip > 0) change -= std::min(slip, c.friction * c.adhesion * dt) * (tangential / slip);
+  }
   const Vec3 impulse = change / w;  // per unit of w: Δv_p = w_p·impulse, Δv_i = −β_i w_i·impulse
-  vstate.velocities[c.vertex] += wp * impulse;
-  for (int k = 0; k < 3; ++k) tstate.velocities[tri[k]] -= c.bary[k] * wt[k] * impulse;
-}
-
-void TissueContactSolver::adhesion_velocities(const Candidate& c, Real dt) {
-  MassSpringState& vstate = *tissues_[c.vertex_tissue].state;
-  MassSpringState& tstate = *tissues_[c.triangle_tissue].state;
-  const MassSpringSettings& vs = *tissues_[c.vertex_tissue].settings;
-  const MassSpringSettings& ts = *tissues_[c.triangle_tissue].settings;
-  const Triangle& tri = ts.triangles[c.triangle];
-  const Real wp = vs.inverse_masses[c.vertex];
-  const Real wt[3] = {ts.inverse_masses[tri[0]], ts.inverse_masses[tri[1]], ts.inverse_masses[tri[2]]};
-  const Real w = wp + c.bary[0] * c.bary[0] * wt[0] + c.bary[1] * c.bary[1] * wt[1] + c.bary[2] * c.bary[2] * wt[2];
-  if (!(w > 0)) return;
-  const Vec3 relative = vstate.velocities[c.vertex] - c.bary[0] * tstate.velocities[tri[0]] -
-                        c.bary[1] * tstate.velocities[tri[1]] - c.bary[2] * tstate.velocities[tri[2]];
-  // The same bound on the position: back toward the gap by at most adhesion·dt² (what gravity
-  // moved it away this step, when adhesion exceeds gravity), never past the gap.
-  const Real pull = std::min(c.excess, c.adhesion * dt * dt) / w;
-  vstate.positions[c.vertex] -= wp * pull * c.direction;
-  for (int k = 0; k < 3; ++k) tstate.positions[tri[k]] += c.bary[k] * wt[k] * pull * c.direction;
-  const Real separating = c.direction.dot(relative);
-  // A bounded pull: the separating speed loses at most adhesion·dt per step (a force of at most
-  // m·adhesion on the vertex), so a light wet mesh stays where it was laid, and a grasper that
-  // lifts it peels it off; the pull presses it as a normal force would, so Coulomb friction takes
-  // up to μ·adhesion·dt off its sliding speed (it does not slide down a tilted wall).
-  const Vec3 tangential = relative - separating * c.direction;
-  const Real slip = tangential.norm();
-  Vec3 change = -std::clamp(separating, Real{0}, c.adhesion * dt) * c.direction;
-  if (slip > 0) change -= std::min(slip, c.friction * c.adhesion * dt) * (tangential / slip);
-  const Vec3 impulse = change / w;
   vstate.velocities[c.vertex] += wp * impulse;
   for (int k = 0; k < 3; ++k) tstate.velocities[tri[k]] -= c.bary[k] * wt[k] * impulse;
 }
@@ -312,8 +294,7 @@ void TissueContactSolver::solve(Real dt, Real time) {
       if (attachments_[i].holding) project_attachment(i, attachments_[i].spec.compliance * alpha_scale, dt);
   }
   for (const Candidate& c : candidates_) {
-    if (c.touching) contact_velocities(c);
-    else if (c.adhered) adhesion_velocities(c, dt);
+    if (c.touching || c.adhered) contact_velocities(c, dt);
     if (c.corrected) ++corrected_;
   }
   for (std::size_t i = 0; i < attachments_.size(); ++i) {

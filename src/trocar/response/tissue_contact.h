@@ -117,8 +117,9 @@ class TissueContactSolver {
   void gather(const TissueContactPair& pair, Body& vertices, Body& triangles, bool self);
   void project_contact(Candidate& c);
   void project_attachment(std::size_t i, Real alpha, Real dt);
-  void contact_velocities(const Candidate& c);
-  void adhesion_velocities(const Candidate& c, Real dt);
+  /// The velocity pass of a touching candidate (inelastic, friction), or of an adhered one (the
+  /// bounded pull back toward the gap, with friction).
+  void contact_velocities(const Candidate& c, Real dt);
 
   std::vector<ContactTissue> tissues_;
   std::vector<TissueContactPair> pairs_;
