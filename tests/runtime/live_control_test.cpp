@@ -33,7 +33,7 @@ struct ClockedRun {
   std::thread thread;
   int loops = 2;  // the haptic and the physics thread (lock-step: the haptic one only)
 
-  ClockedRun(Scene scene, bool lockstep)
+  ClockedRun(Scene scene, bool lockstep, double duration = 0)
       : sim(std::move(scene.world), [&] {
           scene.settings.measure_penetration = false;
           return scene.settings;
@@ -41,7 +41,7 @@ struct ClockedRun {
     std::vector<RuntimeChannel> channels = make_channels(scene.devices, sim.world());
     port = dynamic_cast<PortDevice*>(channels[0].device.get());
     RuntimeSettings settings;
-    settings.duration = 0;  // until request_stop
+    settings.duration = duration;  // 0: until request_stop
     settings.realtime_scheduling = false;
     settings.lockstep = lockstep;
     settings.view_rate_hz = lockstep ? 0 : 100;
@@ -154,6 +154,21 @@ TEST(LiveControl, AStallSkipsTheMissedSlotsAndCountsThem) {
   EXPECT_EQ(run.report.ticks, 114u);
   EXPECT_DOUBLE_EQ(run.report.deadline_miss_fraction, 8.0 / 120.0);
   EXPECT_EQ(run.report.physics_steps, 114u);
+}
+
+TEST(LiveControl, AStallOverTheLastSlotStillCountsEverySlotOfTheRun) {
+  // 10 periods. The loop waits for slot 8 and is held up until 2.5 periods past it: slot 8 runs
+  // late, slot 9 (the run's last) is skipped, and the run ends: 9 ticks + 1 skipped = 10 slots.
+  ClockedRun run(ball_scene(), /*lockstep=*/true, /*duration=*/0.010);
+  run.start();
+  run.periods(7);
+  EXPECT_EQ(run.ticks(), 8u);
+  run.clock.advance(3 * kPeriod + kPeriod / 2);
+  EXPECT_TRUE(test::stop_and_join(*run.runtime, run.clock, run.thread, kPeriod));
+  EXPECT_EQ(run.report.ticks, 9u);
+  EXPECT_EQ(run.report.skipped_slots, 1u);
+  EXPECT_EQ(run.report.ticks + run.report.skipped_slots, 10u);
+  EXPECT_DOUBLE_EQ(run.report.deadline_miss_fraction, 2.0 / 10.0);  // one late, one skipped
 }
 
 }  // namespace

@@ -121,8 +121,8 @@ void Runtime::haptic_thread() {
     // Behind by a whole period (a stall): skip the slots already past instead of a burst of
     // back-to-back ticks, and count them as missed (those of the run: ticks + skipped = slots).
     while (next + period_ns_ < t1) {
+      if (next < end_ns) ++s.skipped_slots;  // the slot passed over is `next`, not the one after it
       next += period_ns_;
-      if (next < end_ns) ++s.skipped_slots;
     }
     live_.ticks.store(tick, std::memory_order_relaxed);
     live_.late_ticks.store(s.late_ticks + s.skipped_slots, std::memory_order_relaxed);
