@@ -146,6 +146,38 @@ TEST(TissueContact, MeshRestsOnTheWallInEveryCellOfTheGrid) {
               1e3 * worst_p99, 1e3 * worst_min);
 }
 
+// Adhesion holds a vertex through the face beneath it, not through an edge beyond which it lies:
+// an open sheet's rim (the defect's) pulling every vertex within range toward its nearest edge
+// drew a mesh laid over the hole in from all sides until the contacts fed one another and it flew
+// apart (the TAPP groin, 10 steps after the start).
+TEST(TissueContact, AdhesionHoldsThroughTheFaceBeneathAVertexOnly) {
+  const auto separating_speed_after = [](const Vec3& offset) {
+    TriMesh floor_mesh;  // one fixed triangle, normal +z
+    floor_mesh.positions = {Vec3(0, 0, 0), Vec3(0.01, 0, 0), Vec3(0, 0.01, 0)};
+    floor_mesh.triangles = {Triangle{0, 1, 2}};
+    FixedSelection all;
+    all.below_plane = Plane{Vec3(0, 0, 1), Vec3(0, 0, 1)};
+    MassSpringSettings fs = MassSpringSettings::build(floor_mesh, MassSpringMaterial{}, all);
+    MassSpringState fx = MassSpringState::at_rest(fs);
+    TriMesh probe;  // vertex 0 near the floor, the others far out of range
+    probe.positions = {offset, offset + Vec3(0, 0, 0.02), offset + Vec3(0.002, 0, 0.02)};
+    probe.triangles = {Triangle{0, 1, 2}};
+    MassSpringSettings ps = MassSpringSettings::build(probe, MassSpringMaterial{});
+    MassSpringState px = MassSpringState::at_rest(ps);
+    TissueContactPair pair{1, 0, 0.001, 0};
+    pair.adhesion = 20;  // 0.02 m/s per 1 ms step
+    TissueContactSolver solver({{&fs, &fx}, {&ps, &px}}, {pair});
+    solver.begin_step();
+    for (Vec3& v : px.velocities) v = Vec3(0, 0, 0.05);  // leaving the floor at 5 cm/s
+    solver.solve(kDt, kDt);
+    return px.velocities[0].z();
+  };
+  // 1.8 mm above the face (0.8 mm beyond the 1 mm gap): adhesion takes 0.02 m/s off.
+  EXPECT_NEAR(separating_speed_after(Vec3(0.002, 0.002, 0.0018)), 0.05 - 20 * kDt, 1e-9);
+  // 1.8 mm from the triangle's edge x = 0, beyond it (not over the face): untouched.
+  EXPECT_DOUBLE_EQ(separating_speed_after(Vec3(-0.0018 / std::sqrt(2.0), 0.005, 0.0018 / std::sqrt(2.0))), 0.05);
+}
+
 /// Segment pq crosses triangle abc (Möller–Trumbore on the segment, endpoints included).
 bool segment_crosses_triangle(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c) {
   const Vec3 d = q - p, e1 = b - a, e2 = c - a;

@@ -162,8 +162,11 @@ void TissueContactSolver::project_contact(Candidate& c) {
   }
   const Real violation = c.thickness - distance;
   if (violation <= 0) {
-    // Beyond the gap: held by adhesion when within its range (velocities only, after the sweeps).
-    if (c.adhesion > 0 && -violation <= c.adhesion_range) {
+    // Beyond the gap: held by adhesion when within its range (velocities only, after the sweeps),
+    // by the face beneath the vertex only. Beyond an edge there is no surface to cling to (an open
+    // sheet's rim would pull a cloth laid over its hole sideways toward the rim from all around),
+    // and a vertex over a face is held once, not once for each triangle around it.
+    if (c.adhesion > 0 && -violation <= c.adhesion_range && q.feature == TriangleFeature::kFace) {
       c.adhered = true;
       c.excess = -violation;
       c.direction = direction;
