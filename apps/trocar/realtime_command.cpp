@@ -1,6 +1,7 @@
 #include "realtime_command.h"
 
 #include "cli_support.h"
+#include "task_report.h"
 
 #include <cmath>
 #include <cstdio>
@@ -61,6 +62,10 @@ void run_realtime(const RealtimeOptions& o) {
     recorder = std::make_unique<RecordingWriter>(o.record, session_header(o.scene, read_scene_text(o.scene), sim, settings));
   }
   Runtime runtime(sim, std::move(channels), settings, recorder.get());
+  // The scene's task: evaluated after every physics step; device button 1 fires its tacker.
+  std::unique_ptr<Procedure> procedure;
+  if (scene.task) procedure = std::make_unique<Procedure>(*scene.task, sim.world(), scene.zones, scene.landmarks);
+  runtime.set_procedure(procedure.get());
   const RuntimeReport r = runtime.run();
   if (recorder) finish_recording(*recorder, sim);
   for (const std::string& w : r.warnings) std::cerr << "trocar: warning: " << w << "\n";
@@ -112,6 +117,7 @@ void run_realtime(const RealtimeOptions& o) {
       {"state_hash", hash_hex(sim.state_hash())},
       {"haptic", haptic},
   };
+  if (procedure) report["task"] = task_report(*procedure);
   if (!o.report.empty()) write_atomically(o.report, report.dump(2) + "\n");
   if (!o.quiet)
     std::printf("%s (real time, %s): %llu haptic ticks at %.1f Hz (nominal %.0f), deadline misses %.4f %%, jitter p99 "
@@ -127,6 +133,7 @@ void run_realtime(const RealtimeOptions& o) {
                   d.name.c_str(), (unsigned long long)d.counters.samples, (unsigned long long)d.counters.malformed,
                   (unsigned long long)d.counters.connections, (unsigned long long)d.counters.drops);
     }
+  if (procedure && !o.quiet) print_task(*procedure);
 }
 
 }  // namespace trocar::cli

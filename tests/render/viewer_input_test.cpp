@@ -62,6 +62,20 @@ TEST(ViewerInput, KeysMoveWhileHeldJawWhileHeldAndOneShotsFireOnce) {
   EXPECT_NEAR(in.orbit.yaw_deg, -3, 1e-12);
 }
 
+TEST(ViewerInput, FireAndExchangeKeysHoldTheDeviceButtonsTheRuntimeActsOn) {
+  ViewerInput in;
+  EXPECT_EQ(in.key(ViewerKey::kFire, true), ViewerKey::kOther);  // not a one-shot of the viewer's own
+  EXPECT_EQ(in.command().buttons, 1u << 1);                       // button 1: fire (procedure/actions.h)
+  in.key(ViewerKey::kExchange, true);
+  EXPECT_EQ(in.command().buttons, (1u << 1) | (1u << 2));          // button 2: exchange
+  in.key(ViewerKey::kFire, false);
+  EXPECT_EQ(in.command().buttons, 1u << 2);
+  in.key(ViewerKey::kExchange, false);
+  EXPECT_EQ(in.command().buttons, 0u);
+  EXPECT_EQ(viewer_key_from_name("fire"), ViewerKey::kFire);
+  EXPECT_EQ(viewer_key_from_name("exchange"), ViewerKey::kExchange);
+}
+
 TEST(ViewerInput, ScriptsAreReadAndBadLinesNamed) {
   const auto file = std::filesystem::temp_directory_path() / "trocar_events_test.txt";
   {

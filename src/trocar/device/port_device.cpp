@@ -56,6 +56,7 @@ void PortDevice::set(const PortCommand& command) {
   DeviceInput in;
   in.pose = kinematics_.pose(command);
   in.jaw = std::clamp<Real>(command.jaw, 0, 1);
+  in.buttons = command.buttons;
   in.timestamp_ns = steady_ns();
   in.sequence = last_.sequence + 1;
   const double dt = last_.sequence ? double(in.timestamp_ns - last_.timestamp_ns) * 1e-9 : 0.0;

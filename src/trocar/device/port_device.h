@@ -18,6 +18,9 @@ struct PortCommand {
   Real depth = 0;   ///< m, insertion beyond the start (+ = deeper)
   Real roll = 0;    ///< rad, about the shaft
   Real jaw = 0;     ///< closure 0 (open) … 1 (closed)
+  /// Buttons held (DeviceInput::buttons: bit 1 fires the tacker, bit 2 exchanges the instrument
+  /// in the port; docs/devices.md).
+  std::uint32_t buttons = 0;
 };
 
 /// Pivot kinematics: a rigid rotation about the port point plus a slide along the shaft.

@@ -22,6 +22,7 @@
 #include "trocar/render/frame_recorder.h"
 #include "trocar/render/offscreen.h"
 #include "trocar/render/renderer.h"
+#include "trocar/procedure/procedure.h"
 #include "trocar/render/task_panel.h"
 #include "trocar/render/viewer_input.h"
 #include "trocar/render/viewer_panel.h"
@@ -56,6 +57,8 @@ struct Session {
   PortDevice* port = nullptr;
   std::string device;
   ViewSnapshot first;  // drawn until the runtime publishes
+  std::unique_ptr<Procedure> procedure;  // the scene's task (null: none); the physics thread's while it runs
+  TaskView first_task;                   // shown until the runtime publishes the panel
   double timestep = 1e-3;  // the scene's "timestep": the physics thread's step
 
   void launch(const ViewerOptions& o, const std::vector<DeviceSpec>& devices, const PortCommand& command) {
@@ -75,6 +78,10 @@ struct Session {
     s.haptic_cpu = kHapticCpu;
     capture_view(*sim, first);
     runtime = std::make_unique<Runtime>(*sim, std::move(channels), s, recorder.get());
+    if (procedure) {
+      first_task = procedure->view();
+      runtime->set_procedure(procedure.get());
+    }
     thread = std::thread([this] { report = runtime->run(); });
   }
   void halt() {
@@ -96,6 +103,15 @@ struct Session {
       if (runtime->views().front().step > 0 || !runtime->views().front().tissues.empty()) return runtime->views().front();
     }
     return first;
+  }
+  /// The task panel: the runtime's latest, or the task as it stood at the start (null: no task).
+  const TaskView* task() {
+    if (!procedure) return nullptr;
+    if (runtime && runtime->live().running.load(std::memory_order_acquire)) {
+      runtime->task_views().update();
+      if (!runtime->task_views().front().steps.empty()) return &runtime->task_views().front();
+    }
+    return &first_task;
   }
 };
 
@@ -131,6 +147,8 @@ struct Viewer {
     }
     scene.settings.measure_penetration = false;  // exact metrics are for studies, not the live loop
     next->sim = std::make_unique<Simulation>(std::move(scene.world), scene.settings);
+    if (scene.task)
+      next->procedure = std::make_unique<Procedure>(*scene.task, next->sim->world(), scene.zones, scene.landmarks);
     next->camera = select_camera(cameras, next->sim->world(), options.camera);
     next->orbit = default_orbit_camera(next->sim->world());
     if (record) {
@@ -189,6 +207,8 @@ ViewerKey glfw_key(int key) {
     case GLFW_KEY_N: return ViewerKey::kStep;
     case GLFW_KEY_R: return ViewerKey::kReset;
     case GLFW_KEY_F9: return ViewerKey::kRecord;
+    case GLFW_KEY_T: return ViewerKey::kFire;      // a tack
+    case GLFW_KEY_X: return ViewerKey::kExchange;  // the instrument in the port
     default: return ViewerKey::kOther;
   }
 }
@@ -440,7 +460,7 @@ class FrameLoop {
     ImGui::NewFrame();
     PanelActions a;
     if (options.panel) a = draw_panel(v_.edits, v_.render, v_.live);
-    if (const TaskView* task = options.task ? options.task() : nullptr) {
+    if (const TaskView* task = v_.session->task()) {  // the scene's task, as the physics thread last published it
       const float display = ImGui::GetIO().DisplaySize.x;  // window units (the framebuffer's may differ)
       const float width = std::clamp(0.3f * display, 200.0f, 420.0f);
       draw_task_window(*task, display - width - 8, 8, width, false);

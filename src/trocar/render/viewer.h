@@ -6,10 +6,8 @@
 /// scene), shows live timing graphs, the haptic rate and deadline misses, and has pause, step,
 /// reset and record.
 #include <filesystem>
-#include <functional>
 #include <string>
 
-#include "trocar/procedure/task_view.h"
 
 namespace trocar {
 
@@ -30,9 +28,6 @@ struct ViewerOptions {
   int samples = 4;                  ///< multisampling of the window (0: none; halves the cost under llvmpipe)
   bool panel = true;                ///< show the settings panel
   bool realtime_scheduling = true;  ///< SCHED_FIFO and pinning for the runtime's threads
-  /// The task to show in the task panel, asked once per frame on the window's thread (null or
-  /// empty: no task panel). What it returns must stay valid until the next call.
-  std::function<const TaskView*()> task;
 };
 
 /// Opens the window and runs until it is closed (or quit_after). Throws trocar::Error when there

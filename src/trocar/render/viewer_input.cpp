@@ -58,6 +58,12 @@ ViewerKey ViewerInput::key(ViewerKey k, bool down) {
     command_.jaw = down ? 1 : 0;
     changed_ = true;
   }
+  // Held: the device's buttons 1 (fire) and 2 (exchange); the runtime acts on the press.
+  if (k == ViewerKey::kFire || k == ViewerKey::kExchange) {
+    const std::uint32_t bit = k == ViewerKey::kFire ? 1u << 1 : 1u << 2;
+    command_.buttons = down ? command_.buttons | bit : command_.buttons & ~bit;
+    changed_ = true;
+  }
   if (down && !was && (k == ViewerKey::kToggleCamera || k == ViewerKey::kPause || k == ViewerKey::kStep ||
                        k == ViewerKey::kReset || k == ViewerKey::kRecord)) {
     if (k == ViewerKey::kToggleCamera) free_camera = !free_camera;
@@ -87,7 +93,8 @@ ViewerKey viewer_key_from_name(const std::string& name) {
       {"yaw-right", ViewerKey::kYawRight},  {"pitch-up", ViewerKey::kPitchUp},    {"pitch-down", ViewerKey::kPitchDown},
       {"roll-left", ViewerKey::kRollLeft},  {"roll-right", ViewerKey::kRollRight}, {"jaw", ViewerKey::kJaw},
       {"camera", ViewerKey::kToggleCamera}, {"pause", ViewerKey::kPause},         {"step", ViewerKey::kStep},
-      {"reset", ViewerKey::kReset},         {"record", ViewerKey::kRecord}};
+      {"reset", ViewerKey::kReset},         {"record", ViewerKey::kRecord},       {"fire", ViewerKey::kFire},
+      {"exchange", ViewerKey::kExchange}};
   for (const auto& [n, k] : names)
     if (name == n) return k;
   return ViewerKey::kOther;

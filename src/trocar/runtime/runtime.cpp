@@ -68,6 +68,7 @@ void Runtime::haptic_tick(std::int64_t now_ns, double period_s, TickRecord& reco
   if (settings_.lockstep) {
     for (std::size_t i = 0; i < haptic_.size(); ++i) s.tick_commands.instruments[i] = haptic_[i].command();
     s.tick_models = stepper_.step(s.tick_commands, period_s, now_ns, s.lockstep_record);
+    if (procedure_) procedure_->update(sim_);
     s.lockstep_record.time_ns = now_ns - start_ns_;
     if (recorder_) recorder_->push_step(s.lockstep_record);
   }
@@ -156,10 +157,15 @@ void Runtime::physics_thread() {
     if (paused_.load(std::memory_order_relaxed)) step_requests_.fetch_sub(1, std::memory_order_acq_rel);
     s.commands.read(commands);
     models = stepper_.step(commands, dt, 0, record);
+    if (procedure_) procedure_->update(sim_);
     live_.physics_steps.fetch_add(1, std::memory_order_relaxed);
     if (view_ns > 0 && clock_.now_ns() >= next_view) {
       capture_view(sim_, views_.back());
       views_.publish();
+      if (procedure_) {  // the panel's text: at the view rate, never inside the step
+        task_views_.back() = procedure_->view();
+        task_views_.publish();
+      }
       next_view += view_ns;
       if (next_view < clock_.now_ns()) next_view = clock_.now_ns() + view_ns;
     }
@@ -172,6 +178,11 @@ void Runtime::physics_thread() {
     if (now < next) clock_.wait_until(next, 0);
     else if (now > next + 5 * step_ns) next = now;  // fallen behind: run on, don't burst
   }
+}
+
+void Runtime::set_procedure(Procedure* procedure) {
+  procedure_ = procedure;
+  stepper_.set_action_handler(procedure);
 }
 
 RuntimeReport Runtime::run() {

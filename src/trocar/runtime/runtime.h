@@ -12,6 +12,8 @@
 
 #include "trocar/core/triple_buffer.h"
 #include "trocar/device/device.h"
+#include "trocar/procedure/procedure.h"
+#include "trocar/procedure/task_view.h"
 #include "trocar/runtime/clock.h"
 #include "trocar/runtime/haptic_channel.h"
 #include "trocar/runtime/histogram.h"
@@ -117,6 +119,12 @@ class Runtime {
   void step_once() { step_requests_.fetch_add(1, std::memory_order_acq_rel); }  ///< see set_paused
   /// The physics thread's view snapshots (settings.view_rate_hz); the reader calls update().
   TripleBuffer<ViewSnapshot>& views() { return views_; }
+  /// The task the session trains (docs/procedure.md), or null: evaluated after every physics
+  /// step, and the fire action (a device button, the viewer's key) fires its tacker. Set before
+  /// run(); the procedure is the physics thread's while the runtime runs.
+  void set_procedure(Procedure* procedure);
+  /// The task's panel, published with each view snapshot while a procedure is set.
+  TripleBuffer<TaskView>& task_views() { return task_views_; }
   /// Counters for a live display.
   const RuntimeLive& live() const { return live_; }
 
@@ -141,6 +149,8 @@ class Runtime {
   std::atomic<bool> paused_{false};
   std::atomic<int> step_requests_{0};
   TripleBuffer<ViewSnapshot> views_;
+  Procedure* procedure_ = nullptr;
+  TripleBuffer<TaskView> task_views_;
   RuntimeLive live_;
 };
 

@@ -1,10 +1,13 @@
 #include "trocar/runtime/session.h"
 
+#include <memory>
+
 #include "trocar/core/cpu_features.h"
 #include "trocar/core/error.h"
 #include "trocar/device/null_device.h"
 #include "trocar/device/port_device.h"
 #include "trocar/device/scripted_device.h"
+#include "trocar/procedure/procedure.h"
 #include "trocar/runtime/recording.h"
 #include "trocar/runtime/replay_device.h"
 #ifdef TROCAR_HAVE_OPENIGTLINK
@@ -109,8 +112,14 @@ ReplayResult replay_recording(const std::filesystem::path& file) {
                     "the recorded scene has " + std::to_string(scene.world.instruments.size()) +
                         " instruments, the records " + std::to_string(rec.header.instruments));
   Simulation sim(std::move(scene.world), settings);
+  // The scene's task fires the tacker on a recorded fire press, as it did live (Runtime::set_procedure).
+  std::unique_ptr<Procedure> procedure;
+  if (scene.task) procedure = std::make_unique<Procedure>(*scene.task, sim.world(), scene.zones, scene.landmarks);
   ReplayResult r;
-  for (const StepRecord& s : rec.steps) apply_recorded_step(sim, s);
+  for (const StepRecord& s : rec.steps) {
+    apply_recorded_step(sim, s, procedure.get());
+    if (procedure) procedure->update(sim);
+  }
   r.steps = rec.steps.size();
   r.state_hash = sim.state_hash();
   r.recorded_hash = rec.end->state_hash;
