@@ -1,0 +1,117 @@
+// The prosthetic mesh moved on the groin (docs/procedure.md, "Known limits"): laid 1.2 cm too
+// low on the TAPP anatomy's wall, taken at its upper edge by two graspers through their ports and
+// slid 1.2 cm cranially along the wall. It goes as a whole, stays above the wall and at rest.
+// (Letting go is not in it: the opening jaws press the mesh into the wall and the step blows up;
+// the known limit.)
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include "trocar/geometry/closest_point.h"
+#include "trocar/scene/scene.h"
+#include "trocar/sim/simulation.h"
+#include "trocar/study/scene_driver.h"
+
+namespace trocar {
+namespace {
+
+// Tips on the wall's inner surface + 1.5 mm (z = |(x, y) − (0.05, 0.02)|²/0.7, docs/anatomy.md),
+// shafts toward the right and left ports; the jaws close at 0.6–0.8 s and slide to 1.6 s.
+const char* kScene = R"({"schema": 1, "name": "mesh-drag", "timestep": 0.001, "duration": 1.6,
+ "gravity": [0, -1.70, 9.66],
+ "anatomy": {"generate": "tapp-inguinal", "hernia": "indirect", "sac_neck_fixed": true},
+ "tissues": [{"name": "mesh", "mesh": {"generate": "prosthetic-mesh", "width": 0.15, "height": 0.10, "spacing": 0.005},
+   "translate": [0.0625, 0.020, 0.02], "material": {"preset": "polypropylene-mesh"}, "integrator": "xpbd",
+   "lay_on": {"tissues": ["abdominal_wall", "peritoneum", "hernia_sac"], "gap": 0.0015}}],
+ "tissue_contacts": [{"a": "mesh", "b": "abdominal_wall", "thickness": 0.001, "friction": 0.5, "adhesion": 20}],
+ "instruments": [
+  {"name": "grasper_right", "port": "right", "mesh": {"generate": "grasper", "shaft_length": 0.2}, "top_vertex": "auto",
+   "jaw_triangles": [0,1,2,3,4,5,6,7,8,9,10,11,12,13,14,15,16,17,18,19,20,21,22,23],
+   "motion": {"keyframes": [
+    {"t": 0.0, "position": [0.1, 0.064, 0.02634], "rotate_deg": [-59.932, -51.735, 0], "jaw": 0},
+    {"t": 0.3, "position": [0.1, 0.064, 0.01434], "rotate_deg": [-54.774, -40.071, 0], "jaw": 0},
+    {"t": 0.6, "position": [0.1, 0.064, 0.00784], "rotate_deg": [-51.902, -35.433, 0], "jaw": 0},
+    {"t": 0.8, "position": [0.1, 0.064, 0.00784], "rotate_deg": [-51.902, -35.433, 0], "jaw": 1},
+    {"t": 1.6, "position": [0.1, 0.076, 0.00955], "rotate_deg": [-50.004, -41.467, 0], "jaw": 1}]}},
+  {"name": "grasper_left", "port": "left", "mesh": {"generate": "grasper", "shaft_length": 0.2}, "top_vertex": "auto",
+   "jaw_triangles": [0,1,2,3,4,5,6,7,8,9,10,11,12,13,14,15,16,17,18,19,20,21,22,23],
+   "motion": {"keyframes": [
+    {"t": 0.0, "position": [0.025, 0.064, 0.02366], "rotate_deg": [-22.582, -74.502, 0], "jaw": 0},
+    {"t": 0.3, "position": [0.025, 0.064, 0.01166], "rotate_deg": [-21.812, -68.021, 0], "jaw": 0},
+    {"t": 0.6, "position": [0.025, 0.064, 0.00516], "rotate_deg": [-21.32, -64.732, 0], "jaw": 0},
+    {"t": 0.8, "position": [0.025, 0.064, 0.00516], "rotate_deg": [-21.32, -64.732, 0], "jaw": 1},
+    {"t": 1.6, "position": [0.025, 0.076, 0.00687], "rotate_deg": [-15.898, -68.916, 0], "jaw": 1}]}}],
+ "collision": {"broad_phase": "ohc", "cell_size": "auto", "period": 0.001},
+ "response": {"method": "obb", "stiffness": 500, "damping": 5, "max_force": 10}})";
+
+std::size_t tissue_named(const World& world, const std::string& name) {
+  for (std::size_t t = 0; t < world.tissues.size(); ++t)
+    if (world.tissues[t]->name == name) return t;
+  ADD_FAILURE() << "no tissue " << name;
+  return 0;
+}
+
+/// The lowest mesh vertex's height over the wall's surface (m): the nearest wall triangle by brute
+/// force, signed by its normal turned into the cavity (+z).
+Real lowest_over_wall(const TissueBody& mesh, const TissueBody& wall) {
+  Real lowest = std::numeric_limits<Real>::infinity();
+  for (const Vec3& p : mesh.state.positions) {
+    Real best = std::numeric_limits<Real>::infinity(), signed_distance = 0;
+    for (const Triangle& t : wall.settings.triangles) {
+      const Vec3 &a = wall.state.positions[t[0]], &b = wall.state.positions[t[1]], &c = wall.state.positions[t[2]];
+      const TriangleClosestPoint q = closest_point_on_triangle(p, a, b, c);
+      const Real d = (p - q.point).norm();
+      if (d < best) {
+        Vec3 n = (b - a).cross(c - a);
+        if (n.z() < 0) n = -n;
+        best = d;
+        signed_distance = n.dot(p - q.point) >= 0 ? d : -d;
+      }
+    }
+    lowest = std::min(lowest, signed_distance);
+  }
+  return lowest;
+}
+
+TEST(MeshOnTheGroin, TwoGraspersSlideTheLaidMeshAlongTheWallAsAWhole) {
+  Scene scene = parse_scene(kScene, "mesh-drag.json", ".");
+  scene.settings.measure_penetration = false;
+  Simulation sim = make_simulation(scene);
+  const World& world = sim.world();
+  const TissueBody& mesh = *world.tissues[tissue_named(world, "mesh")];
+  const TissueBody& wall = *world.tissues[tissue_named(world, "abdominal_wall")];
+  const std::vector<Vec3> laid = mesh.state.positions;
+  const Real lowest_laid = lowest_over_wall(mesh, wall);
+  Real kinetic_max = 0;
+  for (int n = 0; n < 1600; ++n) {
+    const StepMetrics& m = sim.step(scene.timestep);
+    ASSERT_TRUE(m.finite) << "step " << n;
+    kinetic_max = std::max(kinetic_max, m.kinetic_energy);
+  }
+  Real lo = 1, hi = -1, sum = 0;
+  for (std::size_t v = 0; v < laid.size(); ++v) {
+    const Real dy = mesh.state.positions[v].y() - laid[v].y();
+    lo = std::min(lo, dy);
+    hi = std::max(hi, dy);
+    sum += dy;
+  }
+  const Real mean = sum / static_cast<Real>(laid.size());
+  const Real lowest = lowest_over_wall(mesh, wall);
+  std::printf("mesh slid %.2f mm cranially (every vertex %.2f–%.2f mm); lowest vertex %.2f mm over the wall "
+              "(laid: %.2f mm); peak kinetic energy %.2g J\n",
+              1e3 * mean, 1e3 * lo, 1e3 * hi, 1e3 * lowest, 1e3 * lowest_laid, kinetic_max);
+  EXPECT_GT(mean, 0.009);  // the graspers went 12 mm; the mesh follows
+  EXPECT_LT(mean, 0.013);
+  // As a whole: the caudal edge, held by adhesion and friction, lags the graspers by 3.6 mm at
+  // the end of the slide (the knit's own stretch); a torn or bunched mesh would not.
+  EXPECT_LT(hi - lo, 0.005);
+  EXPECT_GT(lowest, 0.0005);  // never through the wall: the 1 mm contact gap, less half
+  // Measured 4.7·10⁻⁵ J (the grasp's first squeeze); the blow-ups this guards against reach 1–7 J.
+  EXPECT_LT(kinetic_max, 1e-3);
+}
+
+}  // namespace
+}  // namespace trocar
