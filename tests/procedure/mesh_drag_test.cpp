@@ -1,8 +1,9 @@
-// The prosthetic mesh moved on the groin (docs/procedure.md, "Known limits"): laid 1.2 cm too
-// low on the TAPP anatomy's wall, taken at its upper edge by two graspers through their ports and
-// slid 1.2 cm cranially along the wall. It goes as a whole, stays above the wall and at rest.
-// (Letting go is not in it: the opening jaws press the mesh into the wall and the step blows up;
-// the known limit.)
+// The prosthetic mesh moved on the groin (docs/procedure.md, "Placing the mesh"): laid 1.2 cm too
+// low on the TAPP anatomy's wall, taken at its upper edge by two graspers through their ports,
+// slid 1.2 cm cranially along the wall and let go. It goes as a whole, stays where it was left,
+// above the wall, and comes to rest. (Before the wall was made not graspable, the jaws took a
+// bite of the wall under the mesh too, dragged it 8 mm, and on letting go the wall sprang back
+// into the mesh at 5 m/s: the step blew up.)
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -19,8 +20,9 @@ namespace trocar {
 namespace {
 
 // Tips on the wall's inner surface + 1.5 mm (z = |(x, y) − (0.05, 0.02)|²/0.7, docs/anatomy.md),
-// shafts toward the right and left ports; the jaws close at 0.6–0.8 s and slide to 1.6 s.
-const char* kScene = R"({"schema": 1, "name": "mesh-drag", "timestep": 0.001, "duration": 1.6,
+// shafts toward the right and left ports; the jaws close at 0.6–0.8 s, slide to 1.6 s, open by
+// 1.8 s, and the graspers withdraw 2 cm by 2.1 s.
+const char* kScene = R"({"schema": 1, "name": "mesh-drag", "timestep": 0.001, "duration": 2.3,
  "gravity": [0, -1.70, 9.66],
  "anatomy": {"generate": "tapp-inguinal", "hernia": "indirect", "sac_neck_fixed": true},
  "tissues": [{"name": "mesh", "mesh": {"generate": "prosthetic-mesh", "width": 0.15, "height": 0.10, "spacing": 0.005},
@@ -35,7 +37,9 @@ const char* kScene = R"({"schema": 1, "name": "mesh-drag", "timestep": 0.001, "d
     {"t": 0.3, "position": [0.1, 0.064, 0.01434], "rotate_deg": [-54.774, -40.071, 0], "jaw": 0},
     {"t": 0.6, "position": [0.1, 0.064, 0.00784], "rotate_deg": [-51.902, -35.433, 0], "jaw": 0},
     {"t": 0.8, "position": [0.1, 0.064, 0.00784], "rotate_deg": [-51.902, -35.433, 0], "jaw": 1},
-    {"t": 1.6, "position": [0.1, 0.076, 0.00955], "rotate_deg": [-50.004, -41.467, 0], "jaw": 1}]}},
+    {"t": 1.6, "position": [0.1, 0.076, 0.00955], "rotate_deg": [-50.004, -41.467, 0], "jaw": 1},
+    {"t": 1.8, "position": [0.1, 0.076, 0.00955], "rotate_deg": [-50.004, -41.467, 0], "jaw": 0},
+    {"t": 2.1, "position": [0.1, 0.076, 0.02955], "rotate_deg": [-50.004, -41.467, 0], "jaw": 0}]}},
   {"name": "grasper_left", "port": "left", "mesh": {"generate": "grasper", "shaft_length": 0.2}, "top_vertex": "auto",
    "jaw_triangles": [0,1,2,3,4,5,6,7,8,9,10,11,12,13,14,15,16,17,18,19,20,21,22,23],
    "motion": {"keyframes": [
@@ -43,7 +47,9 @@ const char* kScene = R"({"schema": 1, "name": "mesh-drag", "timestep": 0.001, "d
     {"t": 0.3, "position": [0.025, 0.064, 0.01166], "rotate_deg": [-21.812, -68.021, 0], "jaw": 0},
     {"t": 0.6, "position": [0.025, 0.064, 0.00516], "rotate_deg": [-21.32, -64.732, 0], "jaw": 0},
     {"t": 0.8, "position": [0.025, 0.064, 0.00516], "rotate_deg": [-21.32, -64.732, 0], "jaw": 1},
-    {"t": 1.6, "position": [0.025, 0.076, 0.00687], "rotate_deg": [-15.898, -68.916, 0], "jaw": 1}]}}],
+    {"t": 1.6, "position": [0.025, 0.076, 0.00687], "rotate_deg": [-15.898, -68.916, 0], "jaw": 1},
+    {"t": 1.8, "position": [0.025, 0.076, 0.00687], "rotate_deg": [-15.898, -68.916, 0], "jaw": 0},
+    {"t": 2.1, "position": [0.025, 0.076, 0.02687], "rotate_deg": [-15.898, -68.916, 0], "jaw": 0}]}}],
  "collision": {"broad_phase": "ohc", "cell_size": "auto", "period": 0.001},
  "response": {"method": "obb", "stiffness": 500, "damping": 5, "max_force": 10}})";
 
@@ -76,7 +82,7 @@ Real lowest_over_wall(const TissueBody& mesh, const TissueBody& wall) {
   return lowest;
 }
 
-TEST(MeshOnTheGroin, TwoGraspersSlideTheLaidMeshAlongTheWallAsAWhole) {
+TEST(MeshOnTheGroin, TwoGraspersSlideTheLaidMeshAlongTheWallAndLetItGo) {
   Scene scene = parse_scene(kScene, "mesh-drag.json", ".");
   scene.settings.measure_penetration = false;
   Simulation sim = make_simulation(scene);
@@ -85,11 +91,14 @@ TEST(MeshOnTheGroin, TwoGraspersSlideTheLaidMeshAlongTheWallAsAWhole) {
   const TissueBody& wall = *world.tissues[tissue_named(world, "abdominal_wall")];
   const std::vector<Vec3> laid = mesh.state.positions;
   const Real lowest_laid = lowest_over_wall(mesh, wall);
-  Real kinetic_max = 0;
-  for (int n = 0; n < 1600; ++n) {
+  Real kinetic_max = 0, kinetic_max_at = 0;
+  for (int n = 0; n < 2300; ++n) {
     const StepMetrics& m = sim.step(scene.timestep);
     ASSERT_TRUE(m.finite) << "step " << n;
-    kinetic_max = std::max(kinetic_max, m.kinetic_energy);
+    if (m.kinetic_energy > kinetic_max) {
+      kinetic_max = m.kinetic_energy;
+      kinetic_max_at = sim.time();
+    }
   }
   Real lo = 1, hi = -1, sum = 0;
   for (std::size_t v = 0; v < laid.size(); ++v) {
@@ -100,17 +109,20 @@ TEST(MeshOnTheGroin, TwoGraspersSlideTheLaidMeshAlongTheWallAsAWhole) {
   }
   const Real mean = sum / static_cast<Real>(laid.size());
   const Real lowest = lowest_over_wall(mesh, wall);
-  std::printf("mesh slid %.2f mm cranially (every vertex %.2f–%.2f mm); lowest vertex %.2f mm over the wall "
-              "(laid: %.2f mm); peak kinetic energy %.2g J\n",
-              1e3 * mean, 1e3 * lo, 1e3 * hi, 1e3 * lowest, 1e3 * lowest_laid, kinetic_max);
-  EXPECT_GT(mean, 0.009);  // the graspers went 12 mm; the mesh follows
+  const Real kinetic_end = sim.metrics().kinetic_energy;
+  std::printf("mesh left %.2f mm cranially of where it was laid (every vertex %.2f–%.2f mm); lowest vertex %.2f mm "
+              "over the wall (laid: %.2f mm); kinetic energy peak %.2g J at %.3f s, at the end %.2g J\n",
+              1e3 * mean, 1e3 * lo, 1e3 * hi, 1e3 * lowest, 1e3 * lowest_laid, kinetic_max, kinetic_max_at, kinetic_end);
+  EXPECT_GT(mean, 0.008);  // the graspers went 12 mm; the mesh followed and stays
   EXPECT_LT(mean, 0.013);
-  // As a whole: the caudal edge, held by adhesion and friction, lags the graspers by 3.6 mm at
-  // the end of the slide (the knit's own stretch); a torn or bunched mesh would not.
-  EXPECT_LT(hi - lo, 0.005);
-  EXPECT_GT(lowest, 0.0005);  // never through the wall: the 1 mm contact gap, less half
-  // Measured 4.7·10⁻⁵ J (the grasp's first squeeze); the blow-ups this guards against reach 1–7 J.
-  EXPECT_LT(kinetic_max, 1e-3);
+  EXPECT_LT(hi - lo, 0.003);   // as a whole: no part left behind, nothing torn or bunched
+  EXPECT_GT(lowest, 0.0005);   // never through the wall: the 1 mm contact gap, less half
+  // The whole scene's kinetic energy: measured 1.8·10⁻³ J at 1.99 s (the open jaws brushing what
+  // they leave as they withdraw); the blow-ups this guards against reach 1–7 J.
+  EXPECT_LT(kinetic_max, 1e-2);
+  EXPECT_LT(kinetic_end, 1e-6);  // at rest again
+  // The wall under it was never held: the jaws hold nothing of it.
+  EXPECT_FALSE(wall.graspable);
 }
 
 }  // namespace

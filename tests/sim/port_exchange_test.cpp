@@ -90,6 +90,26 @@ TEST(PortExchange, ExchangeLetsGoThenInsertsTheNextInstrumentAtTheSamePose) {
   EXPECT_LT((sim.world().instruments[0].instrument.pose().translation - other.translation).norm(), 1e-12);
 }
 
+TEST(PortExchange, JawsHoldNothingOfATissueThatIsNotGraspable) {
+  const auto lift = [](const std::string& graspable) {
+    std::string text = lift_scene("[]");
+    const std::string key = R"("material": {"preset": "peritoneum"},)";
+    text.replace(text.find(key), key.size(), key + graspable);
+    Scene scene = parse_scene(text, "lift.json", ".");
+    Simulation sim(std::move(scene.world), scene.settings);
+    const Real rest_top = sheet_top(sim);
+    for (int k = 0; k < 700; ++k) sim.step(0.001);
+    EXPECT_TRUE(sim.metrics().finite);
+    return std::pair{sim.response(0).held_vertices(0), sheet_top(sim) - rest_top};
+  };
+  const auto [held, lifted] = lift("");
+  const auto [held_not, lifted_not] = lift(R"("graspable": false,)");
+  EXPECT_GT(held, 0u);
+  EXPECT_GT(lifted, 0.01);
+  EXPECT_EQ(held_not, 0u);
+  EXPECT_LT(lifted_not, 0.003) << "the closed jaws only push it as they rise through it";
+}
+
 TEST(PortExchange, ACommandedPortStaysCommandedAfterTheExchange) {
   Scene scene = parse_scene(lift_scene("[]"), "lift.json", ".");
   Simulation sim(std::move(scene.world), scene.settings);

@@ -236,6 +236,7 @@ InguinalAnatomy make_tapp_anatomy(HerniaKind kind, const TappOptions& o) {
     // Muscle and transversalis fascia: firm, held by its border and home springs.
     s.material_preset = "abdominal_wall";
     s.material = {{"mass", 0}, {"sheet_thickness", 0.01}, {"k_home", 50}};
+    s.graspable = false;  // jaws closing on a mesh laid on it take the mesh, not a bite of the wall
     s.colour = kMuscle.colour;
     s.opacity = kMuscle.opacity;
     out.structures.push_back(std::move(s));

@@ -61,6 +61,7 @@ struct AnatomyStructure {
   std::string material_preset = "soft";
   std::vector<std::pair<std::string, Real>> material;
   std::vector<std::uint32_t> fixed;      ///< vertex indices (this mesh's order) that never move
+  bool graspable = true;                 ///< jaws may hold it (TissueBody::graspable)
   std::array<float, 3> colour{0.8f, 0.4f, 0.4f};  ///< linear RGB
   float opacity = 1.0f;
   /// Tubes: the centreline (m) and radius the mesh was built on (empty / 0 for other shapes).

@@ -42,7 +42,7 @@ void add_structure(const AnatomyStructure& s, Scene& scene) {
   const std::vector<std::uint32_t> new_index = inverse_order(order);
   FixedSelection fixed;
   for (std::uint32_t v : s.fixed) fixed.indices.push_back(new_index[v]);
-  scene.world.add_tissue(s.name, mesh, material, fixed, scene.gravity, IntegratorKind::kXpbd);
+  scene.world.add_tissue(s.name, mesh, material, fixed, scene.gravity, IntegratorKind::kXpbd).graspable = s.graspable;
   scene.textures.emplace_back();
   scene.tissue_appearance.push_back(look);
 }

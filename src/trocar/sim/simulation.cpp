@@ -115,7 +115,9 @@ Simulation::Simulation(World world, const SimulationSettings& settings)
     TissueBody& tissue = *world_.tissues[t];
     const ResponseTissue view{&tissue.settings, &tissue.state, &tissue.loads, &tissue.integrator,
                               static_cast<std::uint32_t>(ni + t)};
-    responses_.push_back(make_tissue_response(view, instruments, settings_.response));
+    ResponseSettings response = settings_.response;
+    if (!tissue.graspable) response.grasp_closure = std::numeric_limits<Real>::infinity();  // jaws never hold it
+    responses_.push_back(make_tissue_response(view, instruments, response));
   }
   loads_.resize(ni);
   instrument_metrics_.resize(ni);

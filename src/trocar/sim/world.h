@@ -28,6 +28,9 @@ struct TissueBody {
   /// The mesh's (u, v) per triangle corner (3 per settings.triangles entry, same order), for a
   /// renderer's texture; empty when the mesh has none.
   std::vector<Vec2> texcoords;
+  /// Jaws may hold its vertices (scene "graspable"). The groin's abdominal wall is not: a grasper
+  /// takes the mesh or peritoneum lying on it, never a bite of the wall beneath.
+  bool graspable = true;
 
   /// Builds the model from a mesh already placed in the world (metres).
   TissueBody(std::string body_name, const TriMesh& world_mesh, const MassSpringMaterial& material,
