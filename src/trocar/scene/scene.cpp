@@ -111,7 +111,7 @@ IntegratorKind read_integrator(const JsonReader& obj) {
 
 void read_tissue(const JsonReader& t, std::size_t index, Scene& scene, const std::filesystem::path& dir) {
   t.expect_keys({"name", "mesh", "scale", "translate", "rotate_deg", "repair", "material", "fixed", "integrator",
-                 "substeps", "texture", "appearance", "roll", "lay_on", "graspable"});
+                 "substeps", "texture", "appearance", "roll", "lay_on", "graspable", "enters_at"});
   const std::string name = name_or(t, "tissue", index);
   TriMesh file_mesh = placed_mesh(t, dir);
   if (t.has("lay_on")) read_tissue_lay_on(t.at("lay_on"), scene.world, file_mesh.positions);  // contact_keys.h
@@ -138,6 +138,7 @@ void read_tissue(const JsonReader& t, std::size_t index, Scene& scene, const std
   }
   if (t.has("roll")) read_tissue_roll(t.at("roll"), *scene.world.tissues.back());  // contact_keys.h
   if (t.has("graspable")) scene.world.tissues.back()->graspable = t.at("graspable").boolean();
+  if (t.has("enters_at")) scene.world.tissues.back()->enters_at = t.at("enters_at").number_at_least(0);
   std::filesystem::path texture;
   if (t.has("texture")) {
     const JsonReader tex = t.at("texture");

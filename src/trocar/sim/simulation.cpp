@@ -70,6 +70,19 @@ Simulation::Simulation(World world, const SimulationSettings& settings)
   const std::size_t ni = world_.instruments.size();
   const std::size_t nt = world_.tissues.size();
   commands_.resize(ni);
+  // Tissues that enter later wait far from everything (a kilometre out along x, apart from one
+  // another and from the instruments parked beyond the ports, which wait along z).
+  tissue_waiting_.assign(nt, 0);
+  for (std::size_t t = 0; t < nt; ++t) {
+    TissueBody& tissue = *world_.tissues[t];
+    if (!(tissue.enters_at > 0)) continue;
+    tissue_waiting_[t] = 1;
+    const Vec3 away(1000.0 + 10.0 * static_cast<Real>(t), 0, 0);
+    for (std::size_t v = 0; v < tissue.state.positions.size(); ++v) {
+      tissue.state.positions[v] = tissue.settings.rest_positions[v] + away;
+      tissue.state.velocities[v] = Vec3::Zero();
+    }
+  }
   // Only instrument contacts are answered by the step's responses; tissue against tissue is the
   // tissue contact solver's (with its own search), rigid obstacles are only drawn.
   detector_.set_instrument_pairs_only(true);
@@ -194,6 +207,7 @@ const StepMetrics& Simulation::step(Real dt) {
   time_ += dt;
   dt_ = dt;
   advance_ports();
+  admit_tissues();
   for (std::size_t i = 0; i < world_.instruments.size(); ++i) {
     if (phase_[i] != PortPhase::kInside) continue;  // outside, or withdrawing: held where it is
     InstrumentBody& body = world_.instruments[i];
@@ -259,10 +273,23 @@ void Simulation::respond() {
   metrics_.contacts_applied += tally.applied;
 }
 
+void Simulation::admit_tissues() {
+  for (std::size_t t = 0; t < tissue_waiting_.size(); ++t) {
+    TissueBody& tissue = *world_.tissues[t];
+    // Due when this step's end reaches its time (within rounding of the sum of the steps).
+    if (!tissue_waiting_[t] || time_ + 1e-9 < tissue.enters_at) continue;
+    tissue_waiting_[t] = 0;
+    std::copy(tissue.settings.rest_positions.begin(), tissue.settings.rest_positions.end(),
+              tissue.state.positions.begin());
+    std::fill(tissue.state.velocities.begin(), tissue.state.velocities.end(), Vec3::Zero());
+  }
+}
+
 void Simulation::deform(Real dt) {
   ResponseTally tally;
   tissue_contact_->begin_step();
   for (std::size_t t = 0; t < world_.tissues.size(); ++t) {
+    if (tissue_waiting_[t]) continue;  // outside the body: not stepped
     TissueBody& tissue = *world_.tissues[t];
     const StepStats stats = tissue.integrator.step(tissue.state, tissue.loads, dt);
     metrics_.finite = metrics_.finite && stats.finite;

@@ -118,6 +118,8 @@ class Simulation {
   std::size_t active_in_port(std::size_t i) const { return port_active_[port_of_[i]]; }
   /// True while instrument i waits outside the body (parked far from everything, never touching).
   bool parked(std::size_t i) const { return phase_[i] == PortPhase::kOutside; }
+  /// True while tissue t waits outside the body for its time to enter (TissueBody::enters_at).
+  bool tissue_waiting(std::size_t t) const { return tissue_waiting_[t] != 0; }
   /// True while instrument i is commanded.
   bool instrument_commanded(std::size_t i) const { return commands_[i].active; }
 
@@ -175,6 +177,9 @@ class Simulation {
   std::vector<std::size_t> port_active_;
   std::vector<PortPhase> phase_;
   void advance_ports();
+  /// Per tissue: 1 while it waits outside (enters_at still ahead).
+  std::vector<std::uint8_t> tissue_waiting_;
+  void admit_tissues();
   StepMetrics metrics_;
   Real time_ = 0;
   Real dt_ = 0;  ///< this step's dt (s)

@@ -31,6 +31,10 @@ struct TissueBody {
   /// Jaws may hold its vertices (scene "graspable"). The groin's abdominal wall is not: a grasper
   /// takes the mesh or peritoneum lying on it, never a bite of the wall beneath.
   bool graspable = true;
+  /// Simulated time (s) at which it enters the body (scene "enters_at"): until then it waits
+  /// outside, far from everything and not stepped; then it is placed at its rest shape, at rest
+  /// (the prosthetic mesh, brought in through a port after the sac is reduced). 0: from the start.
+  Real enters_at = 0;
 
   /// Builds the model from a mesh already placed in the world (metres).
   TissueBody(std::string body_name, const TriMesh& world_mesh, const MassSpringMaterial& material,
