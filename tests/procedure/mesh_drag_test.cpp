@@ -7,9 +7,12 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <string>
+#include <vector>
 
 #include "trocar/geometry/closest_point.h"
 #include "trocar/scene/scene.h"
@@ -29,35 +32,52 @@ const char* kScene = R"({"schema": 1, "name": "mesh-drag", "timestep": 0.001, "d
    "translate": [0.0625, 0.020, 0.02], "material": {"preset": "polypropylene-mesh"}, "integrator": "xpbd",
    "lay_on": {"tissues": ["abdominal_wall", "peritoneum", "hernia_sac"], "gap": 0.0015}}],
  "tissue_contacts": [{"a": "mesh", "b": "abdominal_wall", "thickness": 0.001, "friction": 0.5, "adhesion": 20}],
- "instruments": [
-  {"name": "grasper_right", "port": "right", "mesh": {"generate": "grasper", "shaft_length": 0.2}, "top_vertex": "auto",
-   "jaw_triangles": [0,1,2,3,4,5,6,7,8,9,10,11,12,13,14,15,16,17,18,19,20,21,22,23],
-   "motion": {"keyframes": [
-    {"t": 0.0, "position": [0.1, 0.064, 0.02634], "rotate_deg": [-59.932, -51.735, 0], "jaw": 0},
-    {"t": 0.3, "position": [0.1, 0.064, 0.01434], "rotate_deg": [-54.774, -40.071, 0], "jaw": 0},
-    {"t": 0.6, "position": [0.1, 0.064, 0.00784], "rotate_deg": [-51.902, -35.433, 0], "jaw": 0},
-    {"t": 0.8, "position": [0.1, 0.064, 0.00784], "rotate_deg": [-51.902, -35.433, 0], "jaw": 1},
-    {"t": 1.6, "position": [0.1, 0.076, 0.00955], "rotate_deg": [-50.004, -41.467, 0], "jaw": 1},
-    {"t": 1.8, "position": [0.1, 0.076, 0.00955], "rotate_deg": [-50.004, -41.467, 0], "jaw": 0},
-    {"t": 2.1, "position": [0.1, 0.076, 0.02955], "rotate_deg": [-50.004, -41.467, 0], "jaw": 0}]}},
-  {"name": "grasper_left", "port": "left", "mesh": {"generate": "grasper", "shaft_length": 0.2}, "top_vertex": "auto",
-   "jaw_triangles": [0,1,2,3,4,5,6,7,8,9,10,11,12,13,14,15,16,17,18,19,20,21,22,23],
-   "motion": {"keyframes": [
-    {"t": 0.0, "position": [0.025, 0.064, 0.02366], "rotate_deg": [-22.582, -74.502, 0], "jaw": 0},
-    {"t": 0.3, "position": [0.025, 0.064, 0.01166], "rotate_deg": [-21.812, -68.021, 0], "jaw": 0},
-    {"t": 0.6, "position": [0.025, 0.064, 0.00516], "rotate_deg": [-21.32, -64.732, 0], "jaw": 0},
-    {"t": 0.8, "position": [0.025, 0.064, 0.00516], "rotate_deg": [-21.32, -64.732, 0], "jaw": 1},
-    {"t": 1.6, "position": [0.025, 0.076, 0.00687], "rotate_deg": [-15.898, -68.916, 0], "jaw": 1},
-    {"t": 1.8, "position": [0.025, 0.076, 0.00687], "rotate_deg": [-15.898, -68.916, 0], "jaw": 0},
-    {"t": 2.1, "position": [0.025, 0.076, 0.02687], "rotate_deg": [-15.898, -68.916, 0], "jaw": 0}]}}],
+ "instruments": [%INSTRUMENTS%],
  "collision": {"broad_phase": "ohc", "cell_size": "auto", "period": 0.001},
  "response": {"method": "obb", "stiffness": 500, "damping": 5, "max_force": 10}})";
 
+/// A grasper through `port` whose tip passes through `tips` (t, x, y, z, jaw) with its shaft
+/// along `turns` (rotate_deg about x and y, one per tip).
+std::string grasper(const std::string& name, const std::string& port, const std::vector<std::array<Real, 5>>& tips,
+                    const std::vector<std::array<Real, 2>>& turns) {
+  std::string keys;
+  for (std::size_t k = 0; k < tips.size(); ++k) {
+    const auto& [t, x, y, z, jaw] = tips[k];
+    char key[200];
+    std::snprintf(key, sizeof key, R"(%s{"t": %g, "position": [%g, %g, %g], "rotate_deg": [%g, %g, 0], "jaw": %g})",
+                  k ? ", " : "", t, x, y, z, turns[k][0], turns[k][1], jaw);
+    keys += key;
+  }
+  return R"({"name": ")" + name + R"(", "port": ")" + port +
+         R"(", "mesh": {"generate": "grasper", "shaft_length": 0.2}, "top_vertex": "auto",
+   "jaw_triangles": [0,1,2,3,4,5,6,7,8,9,10,11,12,13,14,15,16,17,18,19,20,21,22,23],
+   "motion": {"keyframes": [)" + keys + "]}}";
+}
+
+std::string drag_scene() {
+  std::string text = kScene;
+  const std::string instruments =
+      grasper("grasper_right", "right",
+              {{{0.0, 0.1, 0.064, 0.02634, 0}, {0.3, 0.1, 0.064, 0.01434, 0}, {0.6, 0.1, 0.064, 0.00784, 0},
+                {0.8, 0.1, 0.064, 0.00784, 1}, {1.6, 0.1, 0.076, 0.00955, 1}, {1.8, 0.1, 0.076, 0.00955, 0},
+                {2.1, 0.1, 0.076, 0.02955, 0}}},
+              {{{-59.932, -51.735}, {-54.774, -40.071}, {-51.902, -35.433}, {-51.902, -35.433}, {-50.004, -41.467},
+                {-50.004, -41.467}, {-50.004, -41.467}}}) +
+      ",\n  " +
+      grasper("grasper_left", "left",
+              {{{0.0, 0.025, 0.064, 0.02366, 0}, {0.3, 0.025, 0.064, 0.01166, 0}, {0.6, 0.025, 0.064, 0.00516, 0},
+                {0.8, 0.025, 0.064, 0.00516, 1}, {1.6, 0.025, 0.076, 0.00687, 1}, {1.8, 0.025, 0.076, 0.00687, 0},
+                {2.1, 0.025, 0.076, 0.02687, 0}}},
+              {{{-22.582, -74.502}, {-21.812, -68.021}, {-21.32, -64.732}, {-21.32, -64.732}, {-15.898, -68.916},
+                {-15.898, -68.916}, {-15.898, -68.916}}});
+  text.replace(text.find("%INSTRUMENTS%"), 13, instruments);
+  return text;
+}
+
 std::size_t tissue_named(const World& world, const std::string& name) {
-  for (std::size_t t = 0; t < world.tissues.size(); ++t)
-    if (world.tissues[t]->name == name) return t;
-  ADD_FAILURE() << "no tissue " << name;
-  return 0;
+  std::size_t index = 0;
+  if (!world.find_tissue(name, &index)) ADD_FAILURE() << "no tissue " << name;
+  return index;
 }
 
 /// The lowest mesh vertex's height over the wall's surface (m): the nearest wall triangle by brute
@@ -83,7 +103,7 @@ Real lowest_over_wall(const TissueBody& mesh, const TissueBody& wall) {
 }
 
 TEST(MeshOnTheGroin, TwoGraspersSlideTheLaidMeshAlongTheWallAndLetItGo) {
-  Scene scene = parse_scene(kScene, "mesh-drag.json", ".");
+  Scene scene = parse_scene(drag_scene(), "mesh-drag.json", ".");
   scene.settings.measure_penetration = false;
   Simulation sim = make_simulation(scene);
   const World& world = sim.world();

@@ -17,8 +17,8 @@ std::string format(const char* fmt, Args... args) {
 }
 
 std::size_t tissue_index(const World& world, const std::string& name, const char* key) {
-  for (std::size_t t = 0; t < world.tissues.size(); ++t)
-    if (world.tissues[t]->name == name) return t;
+  std::size_t index = 0;
+  if (world.find_tissue(name, &index)) return index;
   throw Error(std::string("task.") + key + ": no tissue named \"" + name + "\"");
 }
 

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "trocar/core/error.h"
+#include "trocar/procedure/actions.h"
 
 namespace trocar {
 
@@ -60,7 +61,7 @@ ViewerKey ViewerInput::key(ViewerKey k, bool down) {
   }
   // Held: the device's buttons 1 (fire) and 2 (exchange); the runtime acts on the press.
   if (k == ViewerKey::kFire || k == ViewerKey::kExchange) {
-    const std::uint32_t bit = k == ViewerKey::kFire ? 1u << 1 : 1u << 2;
+    const std::uint32_t bit = (k == ViewerKey::kFire ? kActionFire : kActionExchange) << 1;  // button i+1 = action bit i
     command_.buttons = down ? command_.buttons | bit : command_.buttons & ~bit;
     changed_ = true;
   }

@@ -11,11 +11,10 @@ namespace {
 
 std::size_t tissue_named(const JsonReader& key, const Scene& scene) {
   const std::string name = key.string();
+  std::size_t index = 0;
+  if (scene.world.find_tissue(name, &index)) return index;
   std::string known;
-  for (std::size_t t = 0; t < scene.world.tissues.size(); ++t) {
-    if (scene.world.tissues[t]->name == name) return t;
-    known += (known.empty() ? "" : ", ") + scene.world.tissues[t]->name;
-  }
+  for (const auto& t : scene.world.tissues) known += (known.empty() ? "" : ", ") + t->name;
   key.fail("no tissue named \"" + name + "\" (tissues: " + (known.empty() ? "none" : known) + ")");
 }
 
@@ -58,9 +57,7 @@ void read_tissue_lay_on(const JsonReader& spec, const World& world, std::vector<
   std::vector<const TissueBody*> under;
   for (std::size_t k = 0; k < names.array_size(); ++k) {
     const JsonReader n = names.at(k);
-    const TissueBody* found = nullptr;
-    for (const auto& t : world.tissues)
-      if (t->name == n.string()) found = t.get();
+    const TissueBody* found = world.find_tissue(n.string());
     if (found == nullptr) n.fail("no earlier tissue named \"" + n.string() + "\"");
     under.push_back(found);
   }

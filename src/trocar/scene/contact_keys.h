@@ -21,8 +21,8 @@ void read_tissue_roll(const JsonReader& roll, TissueBody& tissue);
 TriMesh generate_prosthetic_mesh(const JsonReader& spec);
 
 /// A tissue's "lay_on": {"tissues": [names], "gap": m}: each of its mesh's vertices (before the
-/// model is built, so the laid shape is also its rest shape) moves along z to `gap` above the highest point of the named tissues' surfaces
-/// under it (vertices over none stay): a cloth laid on the anatomy, e.g. the prosthetic mesh on
+/// model is built, so the laid shape is also its rest shape) moves along z to `gap` above the
+/// highest point of the named tissues' surfaces under it (vertices over none stay): a cloth laid on the anatomy, e.g. the prosthetic mesh on
 /// the wall. The named tissues must come earlier in the scene. Throws naming the key.
 void read_tissue_lay_on(const JsonReader& spec, const World& world, std::vector<Vec3>& positions);
 

@@ -38,4 +38,13 @@ RigidBody& World::add_rigid(std::string name, TriMesh world_mesh) {
   return rigids.back();
 }
 
+const TissueBody* World::find_tissue(std::string_view name, std::size_t* index) const {
+  for (std::size_t t = 0; t < tissues.size(); ++t)
+    if (tissues[t]->name == name) {
+      if (index) *index = t;
+      return tissues[t].get();
+    }
+  return nullptr;
+}
+
 }  // namespace trocar

@@ -2,6 +2,7 @@
 /// What a simulation simulates: tissues, instruments and rigid obstacles, each with a name.
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "trocar/core/types.h"
@@ -80,6 +81,9 @@ struct World {
   InstrumentBody& add_instrument(std::string name, Instrument instrument, KeyframeMotion motion);
   /// Adds a rigid obstacle (mesh in world, metres).
   RigidBody& add_rigid(std::string name, TriMesh world_mesh);
+  /// The tissue called `name` (its index in `*index` when given), or null: the callers say what
+  /// was missing, and where.
+  const TissueBody* find_tissue(std::string_view name, std::size_t* index = nullptr) const;
 };
 
 }  // namespace trocar
