@@ -101,13 +101,14 @@ std::vector<Vec2> strip(std::vector<Vec2> line, Real w) {
 
 /// Builds the tubes one by one: each lies on the wall (its axis a radius and a gap above the
 /// surface) and is lifted over the tubes already placed where they cross, with a ramp of slope
-/// ≤ 0.7, so no two tubes overlap.
+/// ≤ 0.7, so no two tubes overlap. A tube `behind` the wall has its axis a radius and a gap below
+/// the surface instead (and lifts nothing: its top is under the wall).
 class TubeLayer {
  public:
   TubeLayer(HerniaKind kind, const TappOptions& o) : kind_(kind), options_(o) {}
 
   AnatomyStructure add(std::string name, const std::vector<Vec2>& control, Real radius, const Look& look,
-                       StructureRole role) {
+                       StructureRole role, bool behind = false) {
     std::vector<Vec3> flat;
     for (const Vec2& p : control) flat.emplace_back(p.x(), p.y(), 0);
     std::vector<Vec3> dense = smooth_polyline(flat, 0.001);
@@ -115,7 +116,9 @@ class TubeLayer {
     for (std::size_t i = 0; i < dense.size(); ++i) {
       Vec3& p = dense[i];
       if (i > 0) arc[i] = arc[i - 1] + (dense[i] - dense[i - 1]).norm();
-      need[i] = tapp_wall_height(p.x(), p.y()) - dimple(kind_, p.x(), p.y()) + radius + kGap;
+      const Real wall = tapp_wall_height(p.x(), p.y()) - dimple(kind_, p.x(), p.y());
+      need[i] = behind ? wall - radius - kGap : wall + radius + kGap;
+      if (behind) continue;
       for (const Placed& other : placed_) {
         const Real reach = radius + other.radius + kGap;
         for (const Vec3& q : other.dense) {
@@ -127,7 +130,8 @@ class TubeLayer {
     constexpr Real kSlope = 0.7;
     for (std::size_t i = 0; i < dense.size(); ++i) {
       Real z = need[i];
-      for (std::size_t j = 0; j < dense.size(); ++j) z = std::max(z, need[j] - kSlope * std::abs(arc[i] - arc[j]));
+      for (std::size_t j = 0; j < dense.size() && !behind; ++j)
+        z = std::max(z, need[j] - kSlope * std::abs(arc[i] - arc[j]));
       dense[i].z() = z;
     }
     placed_.push_back({dense, radius});
@@ -305,12 +309,15 @@ InguinalAnatomy make_tapp_anatomy(HerniaKind kind, const TappOptions& o) {
   TubeLayer tubes(kind, o);
   const std::size_t seg = o.tube_segments;
   // Cooper's ligament (≈ 6 cm on the pecten pubis, Faure et al. 2001) on the superior pubic ramus.
+  // The ramus lies behind the wall's surface and the ligament on the surface over it, where the
+  // mesh laid on the wall reaches it and a tack fixes the two (the bone standing free in front of
+  // the wall held the ligament 2 cm proud, the mesh passing under it out of a tack's reach).
   const Vec2 cooper0(-0.014, -0.020), cooper1(0.045, -0.011);
   const Vec2 cooper_dir = (cooper1 - cooper0).normalized();
   const Vec2 caudal(cooper_dir.y(), -cooper_dir.x());
   {
     AnatomyStructure s = tubes.add("pubic_bone", {cooper0 + 0.0085 * caudal - Vec2(0.006, 0), cooper1 + 0.0085 * caudal - 0.004 * cooper_dir},
-                                   0.008, kBone, StructureRole::kRigid);
+                                   0.008, kBone, StructureRole::kRigid, /*behind=*/true);
     s.material_preset.clear();
     out.structures.push_back(std::move(s));
   }

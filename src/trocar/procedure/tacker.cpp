@@ -81,6 +81,11 @@ TackRecord fire_tacker(Simulation& sim, std::size_t instrument, const TackerRule
     AttachmentSpec spec;
     spec.a = r.mesh_point;
     spec.b = r.tissue_point;
+    // Held where it lies: the mesh as far over the tissue as it is now (the contact's gap).
+    const TissueBody& mesh = *world.tissues[rules.mesh_tissue];
+    const TissueBody& tissue = *world.tissues[r.tissue];
+    spec.offset = (surface_position(mesh.settings, mesh.state, spec.a) - surface_position(tissue.settings, tissue.state, spec.b))
+                      .dot(surface_normal(tissue.settings, tissue.state, spec.b));
     spec.pullout_force = rules.pullout_force;
     spec.compliance = rules.compliance;
     r.attachment = sim.attach(spec);

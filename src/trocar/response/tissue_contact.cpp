@@ -244,9 +244,11 @@ void TissueContactSolver::project_attachment(std::size_t i, Real alpha, Real dt)
   for (int k = 0; k < 3; ++k)
     w += s.a.bary[k] * s.a.bary[k] * ma.inverse_masses[ta[k]] + s.b.bary[k] * s.b.bary[k] * mb.inverse_masses[tb[k]];
   if (!(w > 0)) return;
-  // XPBD (Macklin, Müller & Chentanez 2016, eq. 18) for the vector constraint C = x_a − x_b:
+  // XPBD (Macklin, Müller & Chentanez 2016, eq. 18) for the vector constraint
+  // C = x_a − (x_b + offset·n_b) (n_b taken as constant within the step):
   // Δλ = −(C + α̃λ)/(w̃ + α̃), α̃ = compliance/dt².
-  const Vec3 constraint = surface_position(ma, sa, s.a) - surface_position(mb, sb, s.b);
+  Vec3 constraint = surface_position(ma, sa, s.a) - surface_position(mb, sb, s.b);
+  if (s.offset != 0) constraint -= s.offset * surface_normal(mb, sb, s.b);
   const Vec3 delta = -(constraint + alpha * lambda_[i]) / w;
   lambda_[i] += delta;
   // The move also enters the velocities (as XPBD's v = Δx/dt): otherwise a pulled vertex keeps
@@ -319,7 +321,9 @@ std::size_t TissueContactSolver::attach(const AttachmentSpec& spec) {
       return kRefused;
     if (!p->bary.allFinite() || (p->bary.array() < -1e-9).any() || std::abs(p->bary.sum() - 1) > 1e-6) return kRefused;
   }
-  if (!(spec.pullout_force > 0) || !(spec.compliance >= 0) || !std::isfinite(spec.compliance)) return kRefused;
+  if (!(spec.pullout_force > 0) || !(spec.compliance >= 0) || !std::isfinite(spec.compliance) ||
+      !std::isfinite(spec.offset))
+    return kRefused;
   attachments_.push_back({spec, true, 0, -1});
   lambda_.push_back(Vec3::Zero());
   return attachments_.size() - 1;
@@ -328,6 +332,13 @@ std::size_t TissueContactSolver::attach(const AttachmentSpec& spec) {
 Vec3 surface_position(const MassSpringSettings& settings, const MassSpringState& state, const SurfacePoint& p) {
   const Triangle& t = settings.triangles[p.triangle];
   return p.bary[0] * state.positions[t[0]] + p.bary[1] * state.positions[t[1]] + p.bary[2] * state.positions[t[2]];
+}
+
+Vec3 surface_normal(const MassSpringSettings& settings, const MassSpringState& state, const SurfacePoint& p) {
+  const Triangle& t = settings.triangles[p.triangle];
+  const Vec3 n = (state.positions[t[1]] - state.positions[t[0]]).cross(state.positions[t[2]] - state.positions[t[0]]);
+  const Real len = n.norm();
+  return len > 0 ? Vec3(n / len) : Vec3::Zero();
 }
 
 }  // namespace trocar

@@ -37,11 +37,17 @@ struct SurfacePoint {
   Vec3 bary = Vec3(1, 0, 0);   ///< barycentric weights (sum 1)
 };
 
-/// Two surface points held together (a tack through the mesh into the tissue): a zero-length
-/// compliant constraint that lets go for good when its force exceeds `pullout_force`.
+/// Two surface points held together (a tack through the mesh into the tissue): a compliant
+/// constraint holding a at `offset` along b's surface normal, that lets go for good when its
+/// force exceeds `pullout_force`.
 struct AttachmentSpec {
   SurfacePoint a;              ///< e.g. on the prosthetic mesh
   SurfacePoint b;              ///< e.g. on the abdominal wall
+  /// m, a's place along b's triangle normal (as wound): the separation the surfaces had when
+  /// tacked. A tack must keep what the pair's contact keeps: held at 0 across a contact of
+  /// thickness h, the two constraints fight (each undoing the other by h per iteration, as a
+  /// velocity of h/dt) and the step blows up (a mesh of real mass, 1 mg a vertex, within 10 ms).
+  Real offset = 0;
   Real pullout_force = 28.6;   ///< N; docs/response.md cites the figure
   /// m/N (the inverse of the tack's stiffness): 2e-5 stretches 0.57 mm at the pull-out force.
   Real compliance = 2e-5;
@@ -134,5 +140,8 @@ class TissueContactSolver {
 
 /// The world position of a surface point.
 Vec3 surface_position(const MassSpringSettings& settings, const MassSpringState& state, const SurfacePoint& p);
+
+/// The unit normal of p's triangle as wound (zero for a degenerate triangle).
+Vec3 surface_normal(const MassSpringSettings& settings, const MassSpringState& state, const SurfacePoint& p);
 
 }  // namespace trocar
