@@ -448,7 +448,7 @@ TEST(TissueContact, ATackAcrossTheContactGapHoldsTheMeshWhereItLies) {
   AttachmentSpec spec;
   spec.a = on_patch;
   spec.b = on_wall;
-  spec.offset = kLay * surface_normal(wall.settings, wall.state, on_wall).z();  // the sheet's normal is ±z
+  spec.offset = surface_frame(wall.settings, wall.state, on_wall).transpose() * Vec3(0, 0, kLay);
   ASSERT_EQ(solver.attach(spec), 0u);
   // Adhesion draws the patch from 1.5 mm down to the contact's 1 mm round the tack, at up to
   // 0.14 m/s (measured); the blow-up reached 10–100 m/s.

@@ -1,5 +1,8 @@
 #include "trocar/procedure/tacker.h"
 
+#include <cmath>
+#include <numbers>
+
 #include "trocar/geometry/closest_point.h"
 
 namespace trocar {
@@ -53,18 +56,33 @@ SurfaceHit closest_surface_point(const TissueBody& tissue, std::uint32_t t, cons
   return best;
 }
 
+SurfaceHit closest_surface_point(const TissueBody& tissue, std::uint32_t t, const TackerTip& tip, Real radius) {
+  SurfaceHit best = closest_surface_point(tissue, t, tip.point);
+  if (!(radius > 0)) return best;
+  // Two unit vectors across the axis.
+  const Vec3 u = tip.axis.unitOrthogonal(), v = tip.axis.cross(u);
+  constexpr int kRim = 12;
+  for (int k = 0; k < kRim; ++k) {
+    const Real a = 2 * std::numbers::pi_v<Real> * k / kRim;
+    const SurfaceHit hit = closest_surface_point(tissue, t, Vec3(tip.point + radius * (std::cos(a) * u + std::sin(a) * v)));
+    if (hit.distance < best.distance) best = hit;
+  }
+  return best;
+}
+
 TackRecord fire_tacker(Simulation& sim, std::size_t instrument, const TackerRules& rules,
                        std::span<const NamedZone> zones, std::span<const NamedPoint> landmarks) {
   const World& world = sim.world();
   TackRecord r;
   r.time = sim.time();
   r.instrument = instrument;
-  r.tip = tacker_tip(world.instruments[instrument].instrument, rules).point;
+  const TackerTip tip = tacker_tip(world.instruments[instrument].instrument, rules);
+  r.tip = tip.point;
 
   bool mesh_hit = false;
   SurfaceHit tissue_hit;
   for (std::size_t t = 0; t < world.tissues.size(); ++t) {
-    const SurfaceHit hit = closest_surface_point(*world.tissues[t], static_cast<std::uint32_t>(t), r.tip);
+    const SurfaceHit hit = closest_surface_point(*world.tissues[t], static_cast<std::uint32_t>(t), tip, rules.tip_radius);
     if (hit.distance > rules.reach) continue;
     if (t == rules.mesh_tissue) {
       mesh_hit = true;
@@ -81,11 +99,12 @@ TackRecord fire_tacker(Simulation& sim, std::size_t instrument, const TackerRule
     AttachmentSpec spec;
     spec.a = r.mesh_point;
     spec.b = r.tissue_point;
-    // Held where it lies: the mesh as far over the tissue as it is now (the contact's gap).
+    // Held where it lies: the mesh point where it is now relative to the tissue's (the contact's
+    // gap between them, and the sideways step between two points each closest to the tip).
     const TissueBody& mesh = *world.tissues[rules.mesh_tissue];
     const TissueBody& tissue = *world.tissues[r.tissue];
-    spec.offset = (surface_position(mesh.settings, mesh.state, spec.a) - surface_position(tissue.settings, tissue.state, spec.b))
-                      .dot(surface_normal(tissue.settings, tissue.state, spec.b));
+    spec.offset = surface_frame(tissue.settings, tissue.state, spec.b).transpose() *
+                  (surface_position(mesh.settings, mesh.state, spec.a) - surface_position(tissue.settings, tissue.state, spec.b));
     spec.pullout_force = rules.pullout_force;
     spec.compliance = rules.compliance;
     r.attachment = sim.attach(spec);

@@ -24,8 +24,14 @@ inline constexpr std::size_t kNoIndex = std::numeric_limits<std::size_t>::max();
 /// How a tacker fires.
 struct TackerRules {
   std::size_t mesh_tissue = kNoIndex;  ///< the prosthetic mesh's tissue index (kNoIndex: no mesh)
-  /// The tack takes hold where a surface lies within this distance of the tip (m).
+  /// The tack takes hold where a surface lies within this distance of the tip's face (m).
   Real reach = 0.002;
+  /// The tip's face, a disc about the tip point across the firing axis (m): a 5 mm tacker less
+  /// its 1 mm bevel (make_tacker). The reach counts from the face, not its centre: a shaft that
+  /// comes in 55–65° off the wall's normal (the groin from the ports) touches with the rim of
+  /// its face first, so a reach from the centre would ask the rim to press the mesh through its
+  /// contact gap into the wall. 0: a point.
+  Real tip_radius = 0.0015;
   /// Pull-out force of the attachment (N): a titanium spiral tack, 28.6 ± 4.9 N (single-device
   /// pull-off, porcine rectus; Byrd et al. 2011, Hernia 15:553).
   Real pullout_force = 28.6;
@@ -85,8 +91,12 @@ struct SurfaceHit {
 };
 SurfaceHit closest_surface_point(const TissueBody& tissue, std::uint32_t t, const Vec3& p);
 
+/// The closest point of tissue `t`'s surface to the disc of `radius` about tip.point across
+/// tip.axis (sampled at its centre and 12 points of its rim), and its distance (m).
+SurfaceHit closest_surface_point(const TissueBody& tissue, std::uint32_t t, const TackerTip& tip, Real radius);
+
 /// Fires instrument `instrument`'s tacker: finds the mesh and the nearest other tissue within
-/// reach of the tip, attaches them when both are there (kFixed), and records the outcome, the
+/// reach of the tip's face, attaches them when both are there (kFixed), and records the outcome, the
 /// zone the tip is in and the nearest landmark. A failed attach (capacity full) leaves
 /// attachment = kNoIndex with outcome kFixed; the caller reports it.
 TackRecord fire_tacker(Simulation& sim, std::size_t instrument, const TackerRules& rules,

@@ -245,10 +245,10 @@ void TissueContactSolver::project_attachment(std::size_t i, Real alpha, Real dt)
     w += s.a.bary[k] * s.a.bary[k] * ma.inverse_masses[ta[k]] + s.b.bary[k] * s.b.bary[k] * mb.inverse_masses[tb[k]];
   if (!(w > 0)) return;
   // XPBD (Macklin, Müller & Chentanez 2016, eq. 18) for the vector constraint
-  // C = x_a − (x_b + offset·n_b) (n_b taken as constant within the step):
+  // C = x_a − (x_b + F_b·offset), F_b b's triangle frame (taken as constant within the step):
   // Δλ = −(C + α̃λ)/(w̃ + α̃), α̃ = compliance/dt².
   Vec3 constraint = surface_position(ma, sa, s.a) - surface_position(mb, sb, s.b);
-  if (s.offset != 0) constraint -= s.offset * surface_normal(mb, sb, s.b);
+  if (!s.offset.isZero()) constraint -= surface_frame(mb, sb, s.b) * s.offset;
   const Vec3 delta = -(constraint + alpha * lambda_[i]) / w;
   lambda_[i] += delta;
   // The move also enters the velocities (as XPBD's v = Δx/dt): otherwise a pulled vertex keeps
@@ -322,7 +322,7 @@ std::size_t TissueContactSolver::attach(const AttachmentSpec& spec) {
     if (!p->bary.allFinite() || (p->bary.array() < -1e-9).any() || std::abs(p->bary.sum() - 1) > 1e-6) return kRefused;
   }
   if (!(spec.pullout_force > 0) || !(spec.compliance >= 0) || !std::isfinite(spec.compliance) ||
-      !std::isfinite(spec.offset))
+      !spec.offset.allFinite())
     return kRefused;
   attachments_.push_back({spec, true, 0, -1});
   lambda_.push_back(Vec3::Zero());
@@ -334,11 +334,16 @@ Vec3 surface_position(const MassSpringSettings& settings, const MassSpringState&
   return p.bary[0] * state.positions[t[0]] + p.bary[1] * state.positions[t[1]] + p.bary[2] * state.positions[t[2]];
 }
 
-Vec3 surface_normal(const MassSpringSettings& settings, const MassSpringState& state, const SurfacePoint& p) {
+Mat3 surface_frame(const MassSpringSettings& settings, const MassSpringState& state, const SurfacePoint& p) {
   const Triangle& t = settings.triangles[p.triangle];
-  const Vec3 n = (state.positions[t[1]] - state.positions[t[0]]).cross(state.positions[t[2]] - state.positions[t[0]]);
-  const Real len = n.norm();
-  return len > 0 ? Vec3(n / len) : Vec3::Zero();
+  const Vec3 e = state.positions[t[1]] - state.positions[t[0]];
+  const Vec3 n = e.cross(state.positions[t[2]] - state.positions[t[0]]);
+  Mat3 frame = Mat3::Identity();
+  if (!(e.norm() > 0) || !(n.norm() > 0)) return frame;
+  frame.col(0) = e.normalized();
+  frame.col(2) = n.normalized();
+  frame.col(1) = frame.col(2).cross(frame.col(0));
+  return frame;
 }
 
 }  // namespace trocar

@@ -38,16 +38,17 @@ struct SurfacePoint {
 };
 
 /// Two surface points held together (a tack through the mesh into the tissue): a compliant
-/// constraint holding a at `offset` along b's surface normal, that lets go for good when its
+/// constraint holding a at `offset` from b in b's triangle frame, that lets go for good when its
 /// force exceeds `pullout_force`.
 struct AttachmentSpec {
   SurfacePoint a;              ///< e.g. on the prosthetic mesh
   SurfacePoint b;              ///< e.g. on the abdominal wall
-  /// m, a's place along b's triangle normal (as wound): the separation the surfaces had when
-  /// tacked. A tack must keep what the pair's contact keeps: held at 0 across a contact of
-  /// thickness h, the two constraints fight (each undoing the other by h per iteration, as a
-  /// velocity of h/dt) and the step blows up (a mesh of real mass, 1 mg a vertex, within 10 ms).
-  Real offset = 0;
+  /// m, a's place relative to b in b's triangle frame (surface_frame()): where a lay when tacked.
+  /// A tack must keep what the pair's contact keeps: held at zero length across a contact of
+  /// thickness h (or with the sideways offset between two closest points), tack and contact undo
+  /// each other by h per iteration, as a velocity of h/dt, and the step blows up (a mesh of real
+  /// mass, 1 mg a vertex, within 10 ms).
+  Vec3 offset = Vec3::Zero();
   Real pullout_force = 28.6;   ///< N; docs/response.md cites the figure
   /// m/N (the inverse of the tack's stiffness): 2e-5 stretches 0.57 mm at the pull-out force.
   Real compliance = 2e-5;
@@ -141,7 +142,8 @@ class TissueContactSolver {
 /// The world position of a surface point.
 Vec3 surface_position(const MassSpringSettings& settings, const MassSpringState& state, const SurfacePoint& p);
 
-/// The unit normal of p's triangle as wound (zero for a degenerate triangle).
-Vec3 surface_normal(const MassSpringSettings& settings, const MassSpringState& state, const SurfacePoint& p);
+/// p's triangle's orthonormal frame as it is now: columns the first edge's direction, the normal
+/// × that edge, and the unit normal as wound (the identity for a degenerate triangle).
+Mat3 surface_frame(const MassSpringSettings& settings, const MassSpringState& state, const SurfacePoint& p);
 
 }  // namespace trocar
