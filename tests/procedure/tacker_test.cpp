@@ -13,6 +13,7 @@ namespace trocar {
 namespace {
 
 constexpr std::size_t kWall = 0, kMesh = 1;
+constexpr Real kPi = 3.14159265358979323846;
 
 /// Puts the capsule's tip (2.5 mm below its origin) at `tip`.
 void put_tip(Simulation& sim, const Vec3& tip) {
@@ -102,6 +103,29 @@ TEST(Tacker, ReachIsTheRulesDistance) {
   TackerRules r = rules();
   r.reach = 0.003;
   EXPECT_EQ(fire_tacker(sim, 0, r, {}).outcome, TackOutcome::kFixed);
+}
+
+// A shaft 60° off the wall's normal: its face's centre 2.8 mm over the wall (out of reach) but
+// the face's low rim, 1.5 mm across, 1.3 mm lower: the reach counts from the face, so mesh and
+// wall are both within it. From the centre alone, only the mesh (1.8 mm) would be.
+TEST(Tacker, ReachCountsFromTheTipsFaceNotItsCentre) {
+  Scene scene = test::task_scene();
+  Simulation sim = make_simulation(scene);
+  put_tip(sim, Vec3(0.03, 0.02, 0.0028));  // 2 cm from the sac
+  TackerRules r = rules();
+  r.tip_local = Vec3(0, 0, -0.0025);
+  r.axis_local = Vec3(std::sin(kPi / 3), 0, -std::cos(kPi / 3));
+  ASSERT_EQ(r.tip_radius, 0.0015);  // a 5 mm tacker less its 1 mm bevel
+  const TackRecord rec = fire_tacker(sim, 0, r, {});
+  EXPECT_EQ(rec.outcome, TackOutcome::kFixed) << to_string(rec.outcome);
+  EXPECT_EQ(rec.tissue, kWall);
+  // The wall point is under the rim: 1.5 mm × cos 60° = 0.75 mm from under the centre, toward −x.
+  const World& w = sim.world();
+  const Vec3 on_wall = surface_position(w.tissues[kWall]->settings, w.tissues[kWall]->state, rec.tissue_point);
+  EXPECT_NEAR(on_wall.x(), 0.03 - 0.00075, 1e-5);
+  TackerRules point = r;
+  point.tip_radius = 0;
+  EXPECT_EQ(fire_tacker(sim, 0, point, {}).outcome, TackOutcome::kMeshOnly);
 }
 
 TEST(Tacker, ZoneAndNearestLandmarkAreRecorded) {

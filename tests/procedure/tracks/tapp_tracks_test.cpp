@@ -67,11 +67,6 @@ Played play(const std::string& file) {
   return out;
 }
 
-std::size_t count_errors(const Played& p, TaskEventKind kind) {
-  return static_cast<std::size_t>(
-      std::count_if(p.events.begin(), p.events.end(), [&](const TaskEvent& e) { return e.error && e.kind == kind; }));
-}
-
 TEST(TappTracks, TheExpertCompletesEveryStepWithoutAnError) {
   const Played p = play("tapp_expert.json");
   ASSERT_TRUE(p.stable);
@@ -97,27 +92,38 @@ TEST(TappTracks, TheNoviceMakesExactlyItsKnownErrors) {
   const Played p = play("tapp_novice.json");
   ASSERT_TRUE(p.stable);
   ASSERT_EQ(p.view.steps.size(), kTaskSteps);
-  EXPECT_EQ(p.view.steps[0].state, StepState::kDone);            // the sac is reduced
+  EXPECT_EQ(p.view.steps[0].state, StepState::kDone);                            // the sac is reduced
   EXPECT_NE(p.view.steps[1].state, StepState::kDone) << p.view.steps[1].detail;  // the mesh short of the overlap
   EXPECT_FALSE(p.view.complete);
-  // The known errors and nothing else: the epigastric vessels grasped (one event per vessel held),
-  // one tack in the triangle of doom.
-  const std::size_t grasped = count_errors(p, TaskEventKind::kVesselGrasped);
+  // Its known errors, and nothing else:
+  //  - the epigastric vessels grasped by the left grasper on its way in (one event per vessel);
+  //  - the tacker, brought to the triangle of doom through the contralateral (left) port, pressing
+  //    the vessels it passes over (zone force, only before that tack);
+  //  - that tack, in the triangle of doom.
+  Real doom_tack = -1;
+  for (const TaskEvent& e : p.events)
+    if (e.kind == TaskEventKind::kTackInZone) doom_tack = e.time;
+  std::size_t grasped = 0, pressed = 0, in_zone = 0, other = 0;
+  for (const TaskEvent& e : p.events) {
+    if (!e.error) continue;
+    if (e.kind == TaskEventKind::kVesselGrasped && e.text.find("inferior_epigastric") != std::string::npos &&
+        e.text.find("grasper_left") != std::string::npos) {
+      ++grasped;
+    } else if (e.kind == TaskEventKind::kTackInZone && e.zone == "triangle_of_doom") {
+      ++in_zone;
+    } else if (e.kind == TaskEventKind::kZoneForce && e.text.find("by tacker") != std::string::npos &&
+               e.time <= doom_tack && e.time > doom_tack - 0.6 &&
+               (e.zone == "epigastric_vessels" || e.zone == "triangle_of_doom" || e.zone == "iliac_vessels")) {
+      ++pressed;
+    } else {
+      ++other;
+      ADD_FAILURE() << "not a known error: " << e.time << " s " << e.text;
+    }
+  }
   EXPECT_GE(grasped, 1u);
-  for (const TaskEvent& e : p.events) {
-    if (e.kind == TaskEventKind::kVesselGrasped) {
-      EXPECT_NE(e.text.find("inferior_epigastric"), std::string::npos) << e.text;
-    }
-  }
-  ASSERT_EQ(count_errors(p, TaskEventKind::kTackInZone), 1u);
-  for (const TaskEvent& e : p.events) {
-    if (e.kind == TaskEventKind::kTackInZone) {
-      EXPECT_EQ(e.zone, "triangle_of_doom");
-    }
-  }
-  std::size_t errors = 0;
-  for (const TaskEvent& e : p.events) errors += e.error ? 1 : 0;
-  EXPECT_EQ(errors, grasped + 1);
+  EXPECT_GE(pressed, 1u);
+  EXPECT_EQ(in_zone, 1u);
+  EXPECT_EQ(other, 0u);
   EXPECT_LT(p.max_kinetic, 0.05);
 }
 
