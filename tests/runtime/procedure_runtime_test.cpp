@@ -104,5 +104,52 @@ TEST(ProcedureRuntime, ADeviceButtonFiresOncePerPressAndThePanelIsPublished) {
   std::filesystem::remove_all(dir);
 }
 
+// A scene's scripted "events" play on the runtime too: the scripted device presses the fire button
+// at each event's time (docs/procedure.md, "Actions and ports"), so `trocar view` of a track fires
+// where `trocar run` does. Two fires 70 ms apart (each held 50 ms) give two tacks, none before the
+// first.
+TEST(ProcedureRuntime, TheScenesScriptedFireEventsArePressedByItsScriptedDevice) {
+  std::string text = test::task_scene_text(R"("task": {"sac": "sac", "mesh": "mesh"},
+  "events": [{"t": 0.010, "action": "fire", "instrument": "tacker"}, {"t": 0.080, "action": "fire", "instrument": "tacker"}])",
+                                           "[0.01, 0.01, 0.0015]");
+  const std::string capsule = R"({"generate": "capsule", "radius": 0.0025, "length": 0.05,
+                                               "segments": 12, "rings": 3})";
+  const auto at = text.find(capsule);
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, capsule.size(), R"({"generate": "tacker", "shaft_length": 0.05})");
+  Scene scene = parse_scene(text, "events.json", ".");
+  ASSERT_EQ(scene.devices.size(), 1u);
+  ASSERT_EQ(scene.devices[0].presses.size(), 2u);
+  EXPECT_EQ(scene.devices[0].presses[0].buttons, 1u << 1);  // button 1: fire
+  scene.settings.measure_penetration = false;
+  Simulation sim(std::move(scene.world), scene.settings);
+  Procedure procedure(*scene.task, sim.world(), scene.zones, scene.landmarks);
+  test::ManualClock clock;
+  RuntimeSettings settings;
+  settings.duration = 0;
+  settings.realtime_scheduling = false;
+  settings.clock = &clock;
+  Runtime runtime(sim, make_channels(scene.devices, sim.world()), settings);
+  runtime.set_procedure(&procedure);
+  std::thread thread([&] { runtime.run(); });
+  const auto periods = [&](int n) {
+    for (int i = 0; i < n; ++i) {
+      clock.advance(kPeriod);
+      ASSERT_TRUE(clock.settle(2)) << "a loop did not finish period " << i;
+    }
+  };
+  ASSERT_TRUE(clock.settle(2));
+  clock.advance(clock.next_deadline() - clock.now_ns());
+  ASSERT_TRUE(clock.settle(2));
+  periods(5);
+  EXPECT_EQ(procedure.tacks().size(), 0u);  // before the first event
+  periods(20);
+  EXPECT_EQ(procedure.tacks().size(), 1u);  // the first press, held 50 ms, fires once
+  periods(80);
+  ASSERT_EQ(procedure.tacks().size(), 2u);
+  EXPECT_EQ(procedure.tacks()[0].outcome, TackOutcome::kFixed);
+  EXPECT_TRUE(test::stop_and_join(runtime, clock, thread, kPeriod));
+}
+
 }  // namespace
 }  // namespace trocar

@@ -17,7 +17,7 @@ DeviceStatus PlaybackDevice::read(double now_s, DeviceInput& input) {
   input.jaw = p.jaw;
   input.velocity = p.velocity;
   input.angular_velocity = Vec3::Zero();
-  input.buttons = 0;
+  input.buttons = p.buttons;
   input.timestamp_ns = static_cast<std::int64_t>(std::llround(now_s * 1e9));
   input.sequence = reads_.fetch_add(1, std::memory_order_relaxed) + 1;
   return DeviceStatus::kConnected;

@@ -3,6 +3,7 @@
 /// keyframes; `replay`, in runtime/: a recorded session): always connected, one connection, never
 /// a drop or a malformed message; reads and forces counted. A driver says only where the hand is.
 #include <atomic>
+#include <cstdint>
 #include <string>
 
 #include "trocar/device/device.h"
@@ -31,6 +32,7 @@ class PlaybackDevice : public Device {
     Pose pose;
     Real jaw = 0;
     Vec3 velocity = Vec3::Zero();  ///< m/s
+    std::uint32_t buttons = 0;     ///< DeviceInput::buttons
   };
   virtual Played play(double now_s) = 0;
 

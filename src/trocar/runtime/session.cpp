@@ -1,6 +1,7 @@
 #include "trocar/runtime/session.h"
 
 #include <memory>
+#include <vector>
 
 #include "trocar/core/cpu_features.h"
 #include "trocar/core/error.h"
@@ -31,8 +32,11 @@ PortKinematics port_kinematics(const DeviceSpec& spec, const InstrumentBody& bod
 namespace {
 
 std::unique_ptr<Device> make_device(const DeviceSpec& spec, const InstrumentBody& body, std::size_t index) {
-  if (!spec.given || spec.driver == "scripted")
-    return std::make_unique<ScriptedDevice>(body.motion, spec.max_force, spec.damping);
+  if (!spec.given || spec.driver == "scripted") {
+    std::vector<ButtonPress> presses;
+    for (const DeviceSpec::Press& p : spec.presses) presses.push_back({p.t, p.buttons});
+    return std::make_unique<ScriptedDevice>(body.motion, spec.max_force, spec.damping, std::move(presses));
+  }
   if (spec.driver == "mouse") return std::make_unique<PortDevice>(port_kinematics(spec, body));
   if (spec.driver == "null") return std::make_unique<NullDevice>(body.motion.sample(0).pose);
   if (spec.driver == "replay") return std::make_unique<ReplayDevice>(spec.recording, index, spec.max_force, spec.damping);

@@ -2,8 +2,10 @@
 /// An instrument's `"device"` (docs/scene.md "Instruments", docs/devices.md): which driver moves it
 /// in real-time mode, where the device's frame sits in the world, and the coupling and force
 /// limits. Plain data: the runtime builds the driver (the core never links a device library).
+#include <cstdint>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "trocar/core/pose.h"
 #include "trocar/core/types.h"
@@ -28,6 +30,13 @@ struct DeviceSpec {
   Real ramp_time = 0.25;       ///< "ramp_time" (s): safe-start ramp
   Real damping = 2.0;          ///< "damping": the device's own b (N·s/m), for the passivity bound
   Real stale_after = 0.1;      ///< "stale_after" (s): openigtlink, silence that counts as stale
+  /// scripted: the scene's "events" on this instrument as button presses, so that the real-time
+  /// runtime plays them too: at `t` (s), `buttons` = action << 1 (button 1 fires, 2 exchanges).
+  struct Press {
+    double t = 0;
+    std::uint32_t buttons = 0;
+  };
+  std::vector<Press> presses;
   bool has_pivot = false;      ///< mouse: "pivot" given
   Vec3 pivot = Vec3::Zero();   ///< mouse: "pivot", the trocar port the shaft turns about (world, m)
 };

@@ -400,6 +400,8 @@ Scene parse_scene(std::string_view text, const std::string& file, const std::fil
   if (root.has("tissue_contacts")) read_tissue_contacts(root.at("tissue_contacts"), scene);  // contact_keys.h
   if (root.has("camera")) read_cameras(root.at("camera"), scene);
   if (root.has("events")) scene.actions = read_actions(root.at("events"), scene.world);
+  for (const ScriptedAction& a : scene.actions)  // the real-time runtime presses them as buttons
+    if (a.instrument < scene.devices.size()) scene.devices[a.instrument].presses.push_back({a.t, a.action << 1});
   read_task_keys(root, scene);  // last: the task's names are checked against everything above
   return scene;
 }
