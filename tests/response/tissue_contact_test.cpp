@@ -494,6 +494,9 @@ TEST(TissueContact, BadAttachmentSpecsAndAFullCapacityAreRefused) {
   bad = ok;
   bad.b.bary = Vec3(std::nan(""), 0, 1);
   EXPECT_EQ(solver.attach(bad), refused);
+  bad = ok;
+  bad.offset = Vec3(0, 0, std::numeric_limits<Real>::infinity());
+  EXPECT_EQ(solver.attach(bad), refused);
   EXPECT_EQ(solver.attach(ok), 0u);
   EXPECT_EQ(solver.attach(ok), 1u);
   EXPECT_EQ(solver.attach(ok), refused);  // capacity 2
