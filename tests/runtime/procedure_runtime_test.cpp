@@ -24,22 +24,39 @@ namespace {
 constexpr std::int64_t kPeriod = 1000000;  // ns: 1 kHz, the scene's 1 ms step
 
 /// The procedure tests' wall, mesh and sac with a tacker whose tip rests 0.5 mm above the mesh
-/// (both within the tacker's 2 mm), driven by the viewer's mouse driver through a port above it.
-std::string tacker_scene_text() {
-  std::string text = test::task_scene_text(R"("task": {"sac": "sac", "mesh": "mesh"})", "[0.01, 0.01, 0.0015]");
+/// (both within the tacker's 2 mm). `device`: keys spliced after its mesh (its "device"), none:
+/// the scripted driver; `extra`: root keys after the task (its "events").
+std::string tacker_scene_text(const std::string& device, const std::string& extra = "") {
+  std::string text = test::task_scene_text(R"("task": {"sac": "sac", "mesh": "mesh"})" + extra, "[0.01, 0.01, 0.0015]");
   const std::string capsule = R"({"generate": "capsule", "radius": 0.0025, "length": 0.05,
                                                "segments": 12, "rings": 3})";
   const auto at = text.find(capsule);
   EXPECT_NE(at, std::string::npos);
-  text.replace(at, capsule.size(), R"({"generate": "tacker", "shaft_length": 0.05}, "device": {"driver": "mouse", "pivot": [0.01, 0.01, 0.1]})");
+  text.replace(at, capsule.size(), R"({"generate": "tacker", "shaft_length": 0.05})" + device);
   return text;
+}
+
+/// Lets the runtime's loops reach their first deadline on the manual clock.
+void start(test::ManualClock& clock) {
+  ASSERT_TRUE(clock.settle(2));
+  clock.advance(clock.next_deadline() - clock.now_ns());
+  ASSERT_TRUE(clock.settle(2));
+}
+
+/// Advances the manual clock by n periods, each one settled.
+void periods(test::ManualClock& clock, int n) {
+  for (int i = 0; i < n; ++i) {
+    clock.advance(kPeriod);
+    ASSERT_TRUE(clock.settle(2)) << "a loop did not finish period " << i;
+  }
 }
 
 TEST(ProcedureRuntime, ADeviceButtonFiresOncePerPressAndThePanelIsPublished) {
   const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("trocar_proc_rt_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   const std::filesystem::path scene_file = dir / "tack.json", recording = dir / "tack.trec";
-  const std::string text = tacker_scene_text();
+  const std::string text =
+      tacker_scene_text(R"(, "device": {"driver": "mouse", "pivot": [0.01, 0.01, 0.1]})");  // the viewer's mouse driver
   {
     std::ofstream(scene_file) << text;
   }
@@ -61,33 +78,25 @@ TEST(ProcedureRuntime, ADeviceButtonFiresOncePerPressAndThePanelIsPublished) {
   runtime.set_procedure(&procedure);
   RuntimeReport report;
   std::thread thread([&] { report = runtime.run(); });
-  const auto periods = [&](int n) {
-    for (int i = 0; i < n; ++i) {
-      clock.advance(kPeriod);
-      ASSERT_TRUE(clock.settle(2)) << "a loop did not finish period " << i;
-    }
-  };
-  ASSERT_TRUE(clock.settle(2));
-  clock.advance(clock.next_deadline() - clock.now_ns());
-  ASSERT_TRUE(clock.settle(2));
-  periods(5);
+  start(clock);
+  periods(clock, 5);
   EXPECT_EQ(procedure.tacks().size(), 0u);
 
   PortCommand press;
   press.buttons = 1u << 1;  // button 1: fire
   port->set(press);
-  periods(20);  // held for 20 periods: one tack, on the press
+  periods(clock, 20);  // held for 20 periods: one tack, on the press
   EXPECT_EQ(procedure.tacks().size(), 1u);
   port->set(PortCommand{});
-  periods(3);
+  periods(clock, 3);
   port->set(press);
-  periods(3);
+  periods(clock, 3);
   ASSERT_EQ(procedure.tacks().size(), 2u);
   EXPECT_EQ(procedure.tacks()[0].outcome, TackOutcome::kFixed);
   EXPECT_EQ(sim.attachments().size(), 2u);
 
   // The panel comes with the views: three steps, and the tacks among its events.
-  periods(10);
+  periods(clock, 10);
   ASSERT_TRUE(runtime.task_views().update());
   const TaskView& panel = runtime.task_views().front();
   ASSERT_EQ(panel.steps.size(), 3u);
@@ -109,14 +118,8 @@ TEST(ProcedureRuntime, ADeviceButtonFiresOncePerPressAndThePanelIsPublished) {
 // where `trocar run` does. Two fires 70 ms apart (each held 50 ms) give two tacks, none before the
 // first.
 TEST(ProcedureRuntime, TheScenesScriptedFireEventsArePressedByItsScriptedDevice) {
-  std::string text = test::task_scene_text(R"("task": {"sac": "sac", "mesh": "mesh"},
-  "events": [{"t": 0.010, "action": "fire", "instrument": "tacker"}, {"t": 0.080, "action": "fire", "instrument": "tacker"}])",
-                                           "[0.01, 0.01, 0.0015]");
-  const std::string capsule = R"({"generate": "capsule", "radius": 0.0025, "length": 0.05,
-                                               "segments": 12, "rings": 3})";
-  const auto at = text.find(capsule);
-  ASSERT_NE(at, std::string::npos);
-  text.replace(at, capsule.size(), R"({"generate": "tacker", "shaft_length": 0.05})");
+  const std::string text = tacker_scene_text("", R"(,
+  "events": [{"t": 0.010, "action": "fire", "instrument": "tacker"}, {"t": 0.080, "action": "fire", "instrument": "tacker"}])");
   Scene scene = parse_scene(text, "events.json", ".");
   ASSERT_EQ(scene.devices.size(), 1u);
   ASSERT_EQ(scene.devices[0].presses.size(), 2u);
@@ -132,20 +135,12 @@ TEST(ProcedureRuntime, TheScenesScriptedFireEventsArePressedByItsScriptedDevice)
   Runtime runtime(sim, make_channels(scene.devices, sim.world()), settings);
   runtime.set_procedure(&procedure);
   std::thread thread([&] { runtime.run(); });
-  const auto periods = [&](int n) {
-    for (int i = 0; i < n; ++i) {
-      clock.advance(kPeriod);
-      ASSERT_TRUE(clock.settle(2)) << "a loop did not finish period " << i;
-    }
-  };
-  ASSERT_TRUE(clock.settle(2));
-  clock.advance(clock.next_deadline() - clock.now_ns());
-  ASSERT_TRUE(clock.settle(2));
-  periods(5);
+  start(clock);
+  periods(clock, 5);
   EXPECT_EQ(procedure.tacks().size(), 0u);  // before the first event
-  periods(20);
+  periods(clock, 20);
   EXPECT_EQ(procedure.tacks().size(), 1u);  // the first press, held 50 ms, fires once
-  periods(80);
+  periods(clock, 80);
   ASSERT_EQ(procedure.tacks().size(), 2u);
   EXPECT_EQ(procedure.tacks()[0].outcome, TackOutcome::kFixed);
   EXPECT_TRUE(test::stop_and_join(runtime, clock, thread, kPeriod));
