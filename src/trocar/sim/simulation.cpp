@@ -133,6 +133,8 @@ Simulation::Simulation(World world, const SimulationSettings& settings)
     responses_.push_back(make_tissue_response(view, instruments, response));
   }
   loads_.resize(ni);
+  tissue_forces_.assign(nt * ni, Vec3::Zero());
+  raw_before_.assign(ni, Vec3::Zero());
   instrument_metrics_.resize(ni);
   std::vector<ContactTissue> contact_tissues;
   for (const auto& tissue : world_.tissues) contact_tissues.push_back({&tissue->settings, &tissue->state});
@@ -264,11 +266,21 @@ void Simulation::detect() {
   metrics_.timings.narrow_phase = detector_.timings().narrow_phase_us;
 }
 
+template <typename Respond>
+void Simulation::credit_tissue(std::size_t t, Respond&& respond) {
+  const std::size_t n = loads_.size();
+  for (std::size_t i = 0; i < n; ++i) raw_before_[i] = loads_[i].raw_force;
+  respond();
+  for (std::size_t i = 0; i < n; ++i) tissue_forces_[t * n + i] += loads_[i].raw_force - raw_before_[i];
+}
+
 void Simulation::respond() {
   for (auto& tissue : world_.tissues) tissue->loads.clear();
   for (InstrumentLoad& load : loads_) load = InstrumentLoad{};
+  std::fill(tissue_forces_.begin(), tissue_forces_.end(), Vec3::Zero());
   ResponseTally tally;
-  for (const auto& response : responses_) response->before_integration(contacts_, loads_, tally);
+  for (std::size_t t = 0; t < responses_.size(); ++t)
+    credit_tissue(t, [&] { responses_[t]->before_integration(contacts_, loads_, tally); });
   metrics_.contacts += tally.contacts;
   metrics_.contacts_applied += tally.applied;
 }
@@ -296,7 +308,7 @@ void Simulation::deform(Real dt) {
     metrics_.cg_iterations += static_cast<std::uint32_t>(stats.cg_iterations);
     metrics_.substeps = std::max(metrics_.substeps, static_cast<std::uint32_t>(stats.substeps));
     metrics_.constraint_error = std::max(metrics_.constraint_error, stats.constraint_error);
-    responses_[t]->after_integration(contacts_, dt, loads_, tally);
+    credit_tissue(t, [&] { responses_[t]->after_integration(contacts_, dt, loads_, tally); });
   }
   tissue_contact_->solve(dt, time_);
   metrics_.contacts += tally.contacts;

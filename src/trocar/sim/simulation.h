@@ -130,6 +130,12 @@ class Simulation {
   const StepMetrics& metrics() const { return metrics_; }  ///< last step
   /// Per-instrument force and torque of the last step (index as world().instruments).
   std::span<const InstrumentMetrics> instrument_metrics() const { return instrument_metrics_; }
+  /// The raw (unclamped) force tissue t put on instrument i in the last step (N): its response's
+  /// share of InstrumentMetrics::raw_force, which is their sum over the tissues. What the trainee's
+  /// tissue-handling metrics read (docs/assessment.md).
+  const Vec3& tissue_force(std::size_t tissue, std::size_t instrument) const {
+    return tissue_forces_[tissue * loads_.size() + instrument];
+  }
   /// The contacts of the last detection step (empty on steps without detection).
   std::span<const Contact> contacts() const { return contacts_; }
   /// FNV-1a 64-bit hash of the bits of every tissue's positions and velocities and every
@@ -161,6 +167,11 @@ class Simulation {
   std::vector<InstrumentField> fields_;      ///< per instrument, when a tissue's response needs it (built once)
   std::vector<std::unique_ptr<TissueResponse>> responses_;  ///< per tissue
   std::vector<InstrumentLoad> loads_;        ///< per instrument: this step's raw load, then clamped
+  std::vector<Vec3> tissue_forces_;          ///< tissue-major: each tissue's share of loads_[i].raw_force
+  std::vector<Vec3> raw_before_;             ///< per instrument: raw_force before a tissue's response ran
+  /// Calls `respond` (one tissue's response adding to loads_) and credits what it added to tissue t.
+  template <typename Respond>
+  void credit_tissue(std::size_t t, Respond&& respond);
   std::vector<InstrumentMetrics> instrument_metrics_;
   std::unique_ptr<TissueContactSolver> tissue_contact_;  ///< tissue pairs and attachments
   std::unique_ptr<PenetrationMeter> meter_;  ///< penetration and tunneling (settings.measure_penetration)
