@@ -5,7 +5,7 @@
 #include <numbers>
 
 #include "trocar/core/error.h"
-#include "trocar/render/camera.h"
+#include "trocar/scene/camera.h"
 #include "trocar/scene/scene.h"
 
 namespace trocar {

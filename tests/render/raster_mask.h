@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "trocar/render/camera.h"
+#include "trocar/scene/camera.h"
 #include "trocar/sim/view_snapshot.h"
 #include "trocar/sim/world.h"
 

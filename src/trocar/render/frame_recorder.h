@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "trocar/render/camera.h"
+#include "trocar/scene/camera.h"
 #include "trocar/render/offscreen.h"
 #include "trocar/procedure/task_view.h"
 #include "trocar/render/renderer.h"

@@ -9,7 +9,7 @@
 #include <memory>
 #include <vector>
 
-#include "trocar/render/camera.h"
+#include "trocar/scene/camera.h"
 #include "trocar/scene/appearance.h"
 #include "trocar/sim/view_snapshot.h"
 #include "trocar/sim/world.h"

@@ -1,4 +1,4 @@
-#include "trocar/render/camera.h"
+#include "trocar/scene/camera.h"
 
 #include <algorithm>
 #include <cmath>
