@@ -7,6 +7,7 @@
 #include "mesh_command.h"
 #include "plot_command.h"
 #include "replay_command.h"
+#include "score_command.h"
 #include "run_command.h"
 #include "study_command.h"
 #include "view_command.h"
@@ -21,6 +22,7 @@ int main(int argc, char** argv) {
   trocar::cli::add_run_command(app, exit_code);
   trocar::cli::add_study_command(app, exit_code);
   trocar::cli::add_replay_command(app, exit_code);
+  trocar::cli::add_score_command(app, exit_code);
   trocar::cli::add_plot_command(app, exit_code);
   trocar::cli::add_view_command(app, exit_code);
   return trocar::cli::run_main(app, argc, argv, exit_code, "trocar");

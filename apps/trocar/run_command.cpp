@@ -18,8 +18,11 @@
 #include "frame_size.h"
 #include "realtime_command.h"
 #include "task_report.h"
+#include "trocar/core/cpu_features.h"
 #include "trocar/core/error.h"
 #include "trocar/core/statistics.h"
+#include "trocar/runtime/haptic_channel.h"
+#include "trocar/runtime/session.h"
 #include "trocar/scene/scene.h"
 #include "trocar/sim/simulation.h"
 #include "trocar/study/scene_driver.h"
@@ -38,6 +41,7 @@ struct Options {
   std::string method;
   std::string report;
   std::string record;
+  std::string session;    // --session FILE: a binary session recording of the headless run
   bool quiet = false;
   std::string frames;     // --frames DIR
   std::string video;      // --video FILE.mp4
@@ -77,6 +81,32 @@ class Progress {
   bool tty_;
   int last_ = -1;
 };
+
+/// The step just taken as a session recording's step record: the actions pressed before it, and
+/// each instrument's pose and force after it (mode 0: the scene's keyframes moved it).
+StepRecord session_record(const Simulation& sim, const StepMetrics& m, double dt, const std::vector<std::uint32_t>& pressed) {
+  StepRecord r;
+  r.step = m.step_index;
+  r.time_ns = static_cast<std::int64_t>(std::llround(m.time * 1e9));
+  r.dt = dt;
+  const StageTimings& t = m.timings;
+  r.timing_us = {float(t.broad_phase), float(t.narrow_phase), float(t.response), float(t.deformation),
+                 float(t.projection), float(t.step), 0.0F};
+  r.contacts = m.contacts;
+  const World& world = sim.world();
+  r.instruments = static_cast<std::uint32_t>(world.instruments.size());
+  for (std::size_t i = 0; i < world.instruments.size(); ++i) {
+    StepInstrument& s = r.instrument[i];
+    const Instrument& in = world.instruments[i].instrument;
+    s.mode = 0;
+    s.actions = pressed[i];
+    s.pose = to_words(in.pose());
+    s.jaw = in.jaw();
+    const Vec3 f = sim.instrument_metrics()[i].force;
+    s.force = {f.x(), f.y(), f.z()};
+  }
+  return r;
+}
 
 void run(const Options& o) {
   Scene scene = load_scene(o.scene);
@@ -124,17 +154,42 @@ void run(const Options& o) {
     record->precision(9);
   }
 
+  // The session recording (docs/recording.md): what `trocar replay` redoes and `trocar score`
+  // assesses. Each step's record carries the actions pressed before it; the instruments follow the
+  // recorded scene's keyframes (mode 0), so the replay redoes exactly this run.
+  std::unique_ptr<RecordingWriter> session;
+  const fs::path session_tmp = o.session.empty() ? fs::path() : fs::path(o.session + ".tmp");
+  if (!o.session.empty()) {
+    if (world.instruments.size() > kMaxRuntimeInstruments)
+      throw Error("--session: a session recording holds at most " + std::to_string(kMaxRuntimeInstruments) +
+                  " instruments; the scene has " + std::to_string(world.instruments.size()));
+    RecordingHeader h;
+    h.instruments = static_cast<std::uint32_t>(world.instruments.size());
+    h.haptic_rate_hz = 1 / dt;  // no haptic loop: physics steps in lock-step at the scene's timestep
+    h.timestep = dt;
+    h.mode = 1;
+    h.kernel_path = kernel_path_name(kernel_path());
+    h.scene_path = fs::absolute(o.scene).lexically_normal().string();
+    h.scene_text = read_scene_text(o.scene);
+    session = std::make_unique<RecordingWriter>(session_tmp, h, steps + 16);  // never full: nothing dropped
+  }
+
   std::vector<double> t_broad, t_narrow, t_response, t_deform, t_step;
   for (auto* v : {&t_broad, &t_narrow, &t_response, &t_deform, &t_step}) v->reserve(steps);
   std::vector<double> depths, forces;
   std::uint64_t pairs_total = 0, pairs_max = 0, steps_with_contact = 0, tunneling = 0;
   Progress progress(o.quiet, steps);
   // Scripted actions (scene "events": fire, exchange) due before the next step's end.
+  // Collected per instrument and applied in index order, as a replay applies a step's actions.
   ActionScript actions(scene.actions);
+  std::vector<std::uint32_t> pressed(world.instruments.size(), 0);
   const auto play_actions = [&] {
+    std::fill(pressed.begin(), pressed.end(), 0U);
     actions.play_before(sim.time() + dt, [&](std::size_t i, std::uint32_t bit) {
-      apply_actions(sim, i, bit, procedure.get());
+      if (i < pressed.size()) pressed[i] |= bit;
     });
+    for (std::size_t i = 0; i < pressed.size(); ++i)
+      if (pressed[i] != 0) apply_actions(sim, i, pressed[i], procedure.get());
   };
   play_actions();
   const auto wall0 = std::chrono::steady_clock::now();
@@ -180,6 +235,7 @@ void run(const Options& o) {
       }
     }
 #endif
+    if (session) session->push_step(session_record(sim, m, dt, pressed));
     play_actions();
     progress.update(++done, m.time);
   });
@@ -218,6 +274,12 @@ void run(const Options& o) {
     record->close();
     fs::rename(record_tmp, o.record);
   }
+  if (session) {
+    finish_recording(*session, sim);
+    fs::rename(session_tmp, o.session);
+    report["session"] = o.session;
+    if (!o.quiet) std::printf("session: %s (%zu steps)\n", o.session.c_str(), done);
+  }
 #ifdef TROCAR_HAVE_RENDER
   if (frames) {
     report["frames"] = {{"count", frames->frames()}, {"fps", o.fps}, {"size", o.size},
@@ -251,6 +313,9 @@ void add_run_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--method", options->method, "Response method: obb, sdf, primitive, normal, project");
   cmd->add_option("--report", options->report, "Write the run report (JSON) to this file");
   cmd->add_option("--record", options->record, "Write a per-step CSV to this file");
+  cmd->add_option("--session", options->session,
+                  "Write a session recording (binary, docs/recording.md) that `trocar replay` redoes and `trocar "
+                  "score` assesses");
   cmd->add_flag("--quiet,-q", options->quiet, "Print nothing but errors");
   cmd->add_option("--frames", options->frames, "Render PNG frames headless (EGL) into this folder");
   cmd->add_option("--video", options->video, "Encode the frames into this MP4 with ffmpeg (frames in FILE.frames/ "
@@ -279,6 +344,8 @@ void add_run_command(CLI::App& app, int& exit_code) {
       return;
     }
     if (rt->lockstep || rt->metrics) throw Error("--lockstep and --metrics go with --realtime");
+    if (!options->session.empty() && !options->method.empty())
+      throw Error("--session records the scene as written: set its response.method instead of --method");
     if (options->frames.empty() && options->video.empty() &&
         (options->camera != "scope" || options->size != "1280x720" || options->fps != 30))
       throw Error("--camera, --size and --fps go with --frames or --video");

@@ -1,9 +1,11 @@
 #include "view_command.h"
 
+#include <filesystem>
 #include <memory>
 #include <string>
 
 #include "frame_size.h"
+#include "score_command.h"
 #include "trocar/core/error.h"
 #ifdef TROCAR_HAVE_VIEWER
 #include "trocar/render/viewer.h"
@@ -13,7 +15,8 @@ namespace trocar::cli {
 
 void add_view_command(CLI::App& app, int& exit_code) {
   struct Options {
-    std::string scene, camera = "scope", screenshot, report, inject, record_dir = "out", size = "1280x720";
+    std::string scene, camera = "scope", screenshot, report, inject, record_dir = "out", size = "1280x720", expert;
+    bool score = false;
     double rate = 1000, quit_after = 0;
     int drive = 0, samples = 4, quit_after_frames = 0;
     bool no_panel = false, no_realtime = false;
@@ -36,6 +39,8 @@ void add_view_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--samples", o->samples, "Multisampling (default 4; 0 is twice as fast under Mesa's llvmpipe)")
       ->check(CLI::Range(0, 16));
   cmd->add_flag("--no-panel", o->no_panel, "Hide the settings panel");
+  cmd->add_flag("--score", o->score, "On quitting, score the last session recorded (the Record button): trocar score");
+  cmd->add_option("--expert", o->expert, "With --score: the expert sessions (a folder of recordings or a reference file)");
   cmd->add_flag("--no-realtime-scheduling", o->no_realtime, "Do not ask for SCHED_FIFO and CPU pinning");
   cmd->callback([o, &exit_code]() {
 #ifdef TROCAR_HAVE_VIEWER
@@ -54,7 +59,9 @@ void add_view_command(CLI::App& app, int& exit_code) {
     v.panel = !o->no_panel;
     v.samples = o->samples;
     v.realtime_scheduling = !o->no_realtime;
-    exit_code = run_viewer(v);
+    std::filesystem::path recorded;
+    exit_code = run_viewer(v, &recorded);
+    if (o->score && !recorded.empty()) score_session(recorded.string(), o->expert, "", false);
 #else
     (void)exit_code;
     throw Error("view: this trocar was built without the viewer (install libglfw3-dev, libimgui-dev, libepoxy-dev and "

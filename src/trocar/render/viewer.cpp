@@ -180,7 +180,7 @@ struct Viewer {
   void stop_recording() {
     session->finish();
     last_recording = session->recording;
-    live.status = "saved " + session->recording.string() + " (trocar replay checks it)";
+    live.status = "saved " + session->recording.string() + " (trocar score assesses it)";
     session->launch(options, devices, input.command());
     live.recording = false;
   }
@@ -532,7 +532,7 @@ void print_summary(const nlohmann::json& report) {
 
 }  // namespace
 
-int run_viewer(const ViewerOptions& options) {
+int run_viewer(const ViewerOptions& options, std::filesystem::path* last_recording) {
   Viewer v;
   v.options = options;
   const std::string text = read_scene_text(options.scene);
@@ -559,6 +559,8 @@ int run_viewer(const ViewerOptions& options) {
   close_window(v);
   write_report(options.report, report);
   print_summary(report);
+  if (!v.last_recording.empty()) std::printf("session recording: %s (trocar score assesses it)\n", v.last_recording.c_str());
+  if (last_recording) *last_recording = v.last_recording;
   return 0;
 }
 

@@ -33,6 +33,7 @@ struct ViewerOptions {
 /// Opens the window and runs until it is closed (or quit_after). Throws trocar::Error when there
 /// is no display ("no display: ... use trocar run --frames for headless frames") or the scene is bad.
 /// Returns 0 (failures throw).
-int run_viewer(const ViewerOptions& options);
+/// `last_recording` (may be null): set to the last session recording finished ("" when none).
+int run_viewer(const ViewerOptions& options, std::filesystem::path* last_recording = nullptr);
 
 }  // namespace trocar

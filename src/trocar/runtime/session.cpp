@@ -104,7 +104,7 @@ void finish_recording(RecordingWriter& writer, const Simulation& sim) {
   writer.finish(end);
 }
 
-ReplayResult replay_recording(const std::filesystem::path& file) {
+ReplayResult replay_recording(const std::filesystem::path& file, ReplayObserver* observer) {
   const Recording rec = read_recording(file, true);
   const std::filesystem::path scene_path(rec.header.scene_path);
   Scene scene = parse_scene(rec.header.scene_text, file.string() + " (scene " + scene_path.string() + ")",
@@ -120,10 +120,13 @@ ReplayResult replay_recording(const std::filesystem::path& file) {
   std::unique_ptr<Procedure> procedure;
   if (scene.task) procedure = std::make_unique<Procedure>(*scene.task, sim.world(), scene.zones, scene.landmarks);
   ReplayResult r;
+  if (observer) observer->start(scene, sim, procedure.get());
   for (const StepRecord& s : rec.steps) {
     apply_recorded_step(sim, s, procedure.get());
     if (procedure) procedure->update(sim);
+    if (observer) observer->step(sim, procedure.get(), s);
   }
+  if (observer) observer->end(sim, procedure.get());
   r.steps = rec.steps.size();
   r.state_hash = sim.state_hash();
   r.recorded_hash = rec.end->state_hash;

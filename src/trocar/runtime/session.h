@@ -51,9 +51,23 @@ struct ReplayResult {
   std::string verdict() const;
 };
 
+/// Watches a replay (the trainee's assessment samples the session through it).
+class ReplayObserver {
+ public:
+  virtual ~ReplayObserver() = default;
+  /// Before the first step: the recorded scene (its world already moved into `sim`) and the
+  /// procedure (nullptr when the scene has no task).
+  virtual void start(const Scene& scene, const Simulation& sim, const Procedure* procedure) = 0;
+  /// After each step, once the procedure has seen it.
+  virtual void step(const Simulation& sim, const Procedure* procedure, const StepRecord& record) = 0;
+  /// After the last step (the procedure and the simulation are gone once the replay returns).
+  virtual void end(const Simulation& /*sim*/, const Procedure* /*procedure*/) {}
+};
+
 /// Rebuilds the session's scene from the recording (its text, meshes relative to its recorded
 /// path) and redoes every recorded physics step in lock-step on this process's kernel path. Throws trocar::FileError for a
 /// truncated or corrupt recording (with the byte offset).
-ReplayResult replay_recording(const std::filesystem::path& recording);
+/// `observer` (may be null) watches every step.
+ReplayResult replay_recording(const std::filesystem::path& recording, ReplayObserver* observer = nullptr);
 
 }  // namespace trocar

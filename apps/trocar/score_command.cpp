@@ -1,0 +1,170 @@
+#include "score_command.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cli_support.h"
+#include "trocar/assessment/learning_curve_html.h"
+#include "trocar/assessment/metrics.h"
+#include "trocar/assessment/proficiency.h"
+#include "trocar/assessment/report_html.h"
+#include "trocar/assessment/report_json.h"
+#include "trocar/assessment/session_trace.h"
+#include "trocar/core/error.h"
+
+namespace trocar::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct ScoreOptions {
+  std::string recording;
+  std::string expert;           // a folder of expert recordings or a reference file (JSON)
+  std::string output;           // the HTML report (default: the recording's name with .html)
+  std::string write_reference;  // write the reference of --expert's recordings to this file
+  std::string history;          // a folder of one trainee's recordings: the learning curve
+  bool quiet = false;
+};
+
+/// The session recordings (*.trec) in `dir`, by name.
+std::vector<fs::path> recordings_in(const fs::path& dir) {
+  if (!fs::is_directory(dir)) throw Error(dir.string() + ": no such folder");
+  std::vector<fs::path> out;
+  for (const fs::directory_entry& e : fs::directory_iterator(dir))
+    if (e.is_regular_file() && e.path().extension() == ".trec") out.push_back(e.path());
+  std::sort(out.begin(), out.end());
+  if (out.empty()) throw Error(dir.string() + ": no session recordings (*.trec)");
+  return out;
+}
+
+/// The metrics of a recording (replayed); warns when the replay does not reproduce it.
+std::vector<Metric> metrics_of(const fs::path& recording, bool quiet, SessionTrace* trace_out = nullptr) {
+  TracedSession s = trace_recording(recording);
+  if (!s.replay.matches() && !quiet)
+    std::fprintf(stderr, "score: %s: the replay %s (the metrics are the replay's)\n", recording.c_str(),
+                 s.replay.verdict().c_str());
+  std::vector<Metric> m = measure(s.trace);
+  if (trace_out) *trace_out = std::move(s.trace);
+  return m;
+}
+
+ExpertReference load_reference(const fs::path& expert, bool quiet) {
+  if (fs::is_regular_file(expert)) return read_reference(expert);
+  if (!fs::is_directory(expert)) throw Error("--expert " + expert.string() + ": no such file or folder");
+  ExpertReference r;
+  for (const fs::path& f : recordings_in(expert)) {
+    if (!quiet) std::fprintf(stderr, "score: expert session %s\n", f.c_str());
+    r.sessions.push_back(f.filename().string());
+    r.metrics.push_back(metrics_of(f, quiet));
+  }
+  r.stats = expert_reference(r.metrics);
+  return r;
+}
+
+std::string format_value(const Metric& m) {
+  char text[64];
+  std::snprintf(text, sizeof text, "%.4g%s%s", m.value, m.unit.empty() ? "" : " ", m.unit.c_str());
+  return text;
+}
+
+void print_summary(const Assessment& a, const SessionTrace& trace) {
+  std::printf("%s: %s — %d scored metric%s below the expert level, %d error%s, task %s\n", trace.scene.c_str(),
+              a.pass ? "PASS" : "FAIL", a.failed, a.failed == 1 ? "" : "s", a.errors, a.errors == 1 ? "" : "s",
+              a.task_complete ? "complete" : "incomplete");
+  for (const MetricScore& s : a.metrics) {
+    if (!s.metric.scored) continue;
+    if (s.has_reference)
+      std::printf("  %-45s %14s   expert %.4g ± %.4g, pass mark %.4g: %s\n", s.metric.name.c_str(),
+                  format_value(s.metric).c_str(), s.expert.mean, s.expert.sd, s.limit, s.pass ? "pass" : "FAIL");
+    else
+      std::printf("  %-45s %14s\n", s.metric.name.c_str(), format_value(s.metric).c_str());
+  }
+  for (const GoalsScore& g : a.goals)
+    if (g.score > 0) std::printf("  GOALS %-20s %d / 5\n", to_string(g.domain), g.score);
+}
+
+/// The learning curve of the recordings in `dir` (in name order: the attempts).
+void learning_curve(const ScoreOptions& o) {
+  ExpertReference reference;
+  if (!o.expert.empty()) reference = load_reference(o.expert, o.quiet);
+  std::vector<Attempt> attempts;
+  for (const fs::path& f : recordings_in(o.history)) {
+    if (!o.quiet) std::fprintf(stderr, "score: attempt %zu: %s\n", attempts.size() + 1, f.c_str());
+    SessionTrace trace;
+    std::vector<Metric> metrics = metrics_of(f, o.quiet, &trace);
+    const Assessment a = assess(trace, metrics, reference.stats);
+    attempts.push_back({f.filename().string(), std::move(metrics), a.pass, a.errors});
+  }
+  const fs::path html = o.output.empty() ? fs::path(o.history) / "learning_curve.html" : fs::path(o.output);
+  write_atomically(html, learning_curve_html(attempts, reference.stats, "Learning curve: " + o.history));
+  if (!o.quiet) {
+    int passed = 0;
+    for (const Attempt& a : attempts) passed += a.pass;
+    std::printf("learning curve: %zu attempts, %d passed overall: %s\n", attempts.size(), passed, html.c_str());
+  }
+}
+
+void score(const ScoreOptions& o) {
+  if (!o.history.empty()) {
+    if (!o.recording.empty() || !o.write_reference.empty()) throw Error("--history goes without a RECORDING or --write-reference");
+    learning_curve(o);
+    return;
+  }
+  if (!o.write_reference.empty()) {
+    const ExpertReference reference = o.expert.empty() ? ExpertReference{} : load_reference(o.expert, o.quiet);
+    if (reference.metrics.empty()) throw Error("--write-reference needs --expert FOLDER of session recordings");
+    write_atomically(o.write_reference, reference_json(reference).dump(1) + "\n");
+    if (!o.quiet)
+      std::printf("reference: %s (%zu expert sessions, %zu metrics)\n", o.write_reference.c_str(),
+                  reference.metrics.size(), reference.stats.size());
+    if (o.recording.empty()) return;
+    score_session(o.recording, o.write_reference, o.output, o.quiet);
+    return;
+  }
+  if (o.recording.empty()) throw Error("a RECORDING to score is needed");
+  score_session(o.recording, o.expert, o.output, o.quiet);
+}
+
+}  // namespace
+
+void score_session(const std::string& recording, const std::string& expert, const std::string& output, bool quiet) {
+  ExpertReference reference;
+  if (!expert.empty()) reference = load_reference(expert, quiet);
+  SessionTrace trace;
+  const std::vector<Metric> metrics = metrics_of(recording, quiet, &trace);
+  const Assessment assessment = assess(trace, metrics, reference.stats);
+  const fs::path html = output.empty() ? fs::path(recording).replace_extension(".html") : fs::path(output);
+  const fs::path json = fs::path(html).replace_extension(".json");
+  const std::string title = "Assessment of " + fs::path(recording).filename().string();
+  write_atomically(html, assessment_html(trace, assessment, MetricSettings{}, {}, title));
+  write_atomically(json, assessment_json(trace, assessment).dump(1) + "\n");
+  if (!quiet) {
+    print_summary(assessment, trace);
+    std::printf("report: %s (numbers in %s)\n", html.c_str(), json.c_str());
+  }
+}
+
+void add_score_command(CLI::App& app, int& exit_code) {
+  auto o = std::make_shared<ScoreOptions>();
+  CLI::App* cmd = app.add_subcommand("score", "Assess a trainee's session recording against expert sessions (HTML report)");
+  cmd->add_option("recording", o->recording, "Session recording (trocar run --session, or --realtime --record)");
+  cmd->add_option("--expert", o->expert,
+                  "Expert sessions: a folder of recordings (*.trec) or a reference file (--write-reference)");
+  cmd->add_option("-o,--output", o->output, "The HTML report (default: the recording's name with .html; JSON beside it)");
+  cmd->add_option("--write-reference", o->write_reference,
+                  "Write the reference of --expert's recordings (their metrics, mean, SD, best quartile) to this file");
+  cmd->add_option("--history", o->history,
+                  "A folder of one trainee's recordings (*.trec, in name order): write their learning curve "
+                  "(-o, default FOLDER/learning_curve.html)");
+  cmd->add_flag("--quiet,-q", o->quiet, "Print nothing but errors");
+  cmd->callback([o, &exit_code]() {
+    score(*o);
+    (void)exit_code;
+  });
+}
+
+}  // namespace trocar::cli
