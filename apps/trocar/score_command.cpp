@@ -15,6 +15,10 @@
 #include "trocar/assessment/report_json.h"
 #include "trocar/assessment/session_trace.h"
 #include "trocar/core/error.h"
+#include "trocar/procedure/procedure.h"
+#ifdef TROCAR_HAVE_RENDER
+#include "trocar/render/frame_recorder.h"
+#endif
 
 namespace trocar::cli {
 namespace {
@@ -42,8 +46,9 @@ std::vector<fs::path> recordings_in(const fs::path& dir) {
 }
 
 /// The metrics of a recording (replayed); warns when the replay does not reproduce it.
-std::vector<Metric> metrics_of(const fs::path& recording, bool quiet, SessionTrace* trace_out = nullptr) {
-  TracedSession s = trace_recording(recording);
+std::vector<Metric> metrics_of(const fs::path& recording, bool quiet, SessionTrace* trace_out = nullptr,
+                               ReplayObserver* also = nullptr) {
+  TracedSession s = trace_recording(recording, also);
   if (!s.replay.matches() && !quiet)
     std::fprintf(stderr, "score: %s: the replay %s (the metrics are the replay's)\n", recording.c_str(),
                  s.replay.verdict().c_str());
@@ -129,18 +134,78 @@ void score(const ScoreOptions& o) {
   score_session(o.recording, o.expert, o.output, o.quiet);
 }
 
+#ifdef TROCAR_HAVE_RENDER
+/// Renders the scope's view at the moment of each error the replayed procedure logs (with the task
+/// panel), into `dir`, for the report's timeline. A build or a machine without EGL gets a report
+/// without frames and a note why.
+class ErrorFrames final : public ReplayObserver {
+ public:
+  ErrorFrames(fs::path dir, bool quiet) : dir_(std::move(dir)), quiet_(quiet) {}
+  void start(const Scene& scene, const Simulation& sim, const Procedure* /*procedure*/) override {
+    settings_.dir = dir_;
+    settings_.camera = select_camera(scene.cameras, sim.world(), "scope");
+    settings_.textures = scene.textures;
+    settings_.tissue_appearance = scene.tissue_appearance;
+    settings_.rigid_appearance = scene.rigid_appearance;
+  }
+  void step(const Simulation& sim, const Procedure* procedure, const StepRecord& /*record*/) override {
+    if (!procedure || failed_) return;
+    const auto events = procedure->events();
+    if (events.size() == seen_) return;
+    const TaskView view = procedure->view();
+    for (; seen_ < events.size(); ++seen_) {
+      if (!events[seen_].error || !ready(sim)) continue;
+      char name[32];
+      std::snprintf(name, sizeof name, "error_%02zu.png", frames_.size() + 1);
+      recorder_->render_to(sim, &view, dir_ / name);
+      frames_.push_back({events[seen_].time, (dir_.filename() / name).string(), events[seen_].text});
+    }
+  }
+  const std::vector<ReportFrame>& frames() const { return frames_; }
+
+ private:
+  /// The renderer, made at the first error (no error: no folder, no EGL context).
+  bool ready(const Simulation& sim) {
+    if (recorder_) return true;
+    try {
+      recorder_ = std::make_unique<FrameRecorder>(sim.world(), settings_);
+    } catch (const Error& e) {
+      failed_ = true;
+      if (!quiet_) std::fprintf(stderr, "score: no frames of the errors (%s)\n", e.what());
+    }
+    return recorder_ != nullptr;
+  }
+  fs::path dir_;
+  bool quiet_;
+  FrameSettings settings_;
+  bool failed_ = false;
+  std::unique_ptr<FrameRecorder> recorder_;
+  std::size_t seen_ = 0;
+  std::vector<ReportFrame> frames_;
+};
+#endif
+
 }  // namespace
 
 void score_session(const std::string& recording, const std::string& expert, const std::string& output, bool quiet) {
   ExpertReference reference;
   if (!expert.empty()) reference = load_reference(expert, quiet);
-  SessionTrace trace;
-  const std::vector<Metric> metrics = metrics_of(recording, quiet, &trace);
-  const Assessment assessment = assess(trace, metrics, reference.stats);
   const fs::path html = output.empty() ? fs::path(recording).replace_extension(".html") : fs::path(output);
   const fs::path json = fs::path(html).replace_extension(".json");
+  SessionTrace trace;
+  std::vector<ReportFrame> frames;
+#ifdef TROCAR_HAVE_RENDER
+  // The frames go beside the report, in REPORT_frames/ (the page names them relative to itself).
+  const fs::path frames_dir = html.parent_path() / (html.stem().string() + "_frames");
+  ErrorFrames error_frames(frames_dir, quiet);
+  const std::vector<Metric> metrics = metrics_of(recording, quiet, &trace, &error_frames);
+  frames = error_frames.frames();
+#else
+  const std::vector<Metric> metrics = metrics_of(recording, quiet, &trace);
+#endif
+  const Assessment assessment = assess(trace, metrics, reference.stats);
   const std::string title = "Assessment of " + fs::path(recording).filename().string();
-  write_atomically(html, assessment_html(trace, assessment, MetricSettings{}, {}, title));
+  write_atomically(html, assessment_html(trace, assessment, MetricSettings{}, frames, title));
   write_atomically(json, assessment_json(trace, assessment).dump(1) + "\n");
   if (!quiet) {
     print_summary(assessment, trace);

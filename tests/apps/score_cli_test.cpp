@@ -192,6 +192,15 @@ TEST_F(ScoreCli, TheNoviceTracksReportCarriesItsKnownErrors) {
   const std::string html = slurp(path("novice.html"));
   EXPECT_NE(html.find("FAIL"), std::string::npos);
   EXPECT_NE(html.find("triangle_of_doom"), std::string::npos);
+#ifdef TROCAR_HAVE_RENDER
+  // A frame of the scope at each error, beside the report, shown on its timeline.
+  for (int k = 1; k <= 5; ++k) {
+    const std::string name = "novice_frames/error_0" + std::to_string(k) + ".png";
+    EXPECT_TRUE(fs::exists(path(name))) << name;
+    EXPECT_NE(html.find(name), std::string::npos) << name;
+  }
+  EXPECT_FALSE(fs::exists(path("novice_frames/error_06.png")));
+#endif
 }
 
 }  // namespace

@@ -133,6 +133,7 @@ std::vector<Metric> measure(const SessionTrace& trace, const MetricSettings& s) 
     }
     force_max = std::max(force_max, t_max);
     above += t_above;
+    if (!(t_max > s.contact_force)) continue;  // never touched: nothing to report
     add(details, t.name + ".force_max", t.name + ": largest force", "N", D::kTissueHandling, true, false, t_max);
     add(details, t.name + ".time_above_damage", t.name + ": time above its damage threshold", "s",
         D::kTissueHandling, true, false, t_above);

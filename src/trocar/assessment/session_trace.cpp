@@ -86,15 +86,26 @@ SessionTrace TraceSampler::finish(const Procedure* procedure) {
   return std::move(trace_);
 }
 
-TracedSession trace_recording(const std::filesystem::path& recording) {
+TracedSession trace_recording(const std::filesystem::path& recording, ReplayObserver* also) {
   // The procedure lives inside the replay: the task's outcome is read at its end.
   struct Sampler final : ReplayObserver {
     TraceSampler sampler;
+    ReplayObserver* also = nullptr;
     SessionTrace finished;
-    void start(const Scene& scene, const Simulation& sim, const Procedure* p) override { sampler.start(scene, sim, p); }
-    void step(const Simulation& sim, const Procedure* p, const StepRecord& r) override { sampler.step(sim, p, r); }
-    void end(const Simulation& /*sim*/, const Procedure* p) override { finished = sampler.finish(p); }
+    void start(const Scene& scene, const Simulation& sim, const Procedure* p) override {
+      sampler.start(scene, sim, p);
+      if (also) also->start(scene, sim, p);
+    }
+    void step(const Simulation& sim, const Procedure* p, const StepRecord& r) override {
+      sampler.step(sim, p, r);
+      if (also) also->step(sim, p, r);
+    }
+    void end(const Simulation& sim, const Procedure* p) override {
+      finished = sampler.finish(p);
+      if (also) also->end(sim, p);
+    }
   } sampler;
+  sampler.also = also;
   TracedSession out;
   out.replay = replay_recording(recording, &sampler);
   out.trace = std::move(sampler.finished);

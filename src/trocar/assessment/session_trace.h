@@ -14,8 +14,9 @@ struct TracedSession {
   ReplayResult replay;   ///< the replay's verdict on the recording's state hash
 };
 
-/// Replays `recording` and samples it. Throws trocar::FileError for a bad recording.
-TracedSession trace_recording(const std::filesystem::path& recording);
+/// Replays `recording` and samples it; `also` (may be null) watches the same replay (the report's
+/// frames of errors are rendered through it). Throws trocar::FileError for a bad recording.
+TracedSession trace_recording(const std::filesystem::path& recording, ReplayObserver* also = nullptr);
 
 /// The samples taken of a replay (or of a simulation a caller steps itself): start() once, step()
 /// after every step, finish() with the procedure at the end.

@@ -63,23 +63,31 @@ bool FrameRecorder::draws_task_panel() {
 void FrameRecorder::on_step(const Simulation& sim, const TaskView* task) {
   // Frame k shows time k / fps; a step of dt can pass several frame times at low step rates.
   while (double(frames_) / settings_.fps <= sim.time() + 1e-9) {
-    const auto t0 = std::chrono::steady_clock::now();
-    capture_view(sim, snapshot_);
-    context_->bind();
-    renderer_->draw(snapshot_, view_, settings_.options, settings_.width, settings_.height);
-#ifdef TROCAR_RENDER_TASK_PANEL
-    if (task) {
-      if (!panel_) panel_ = std::make_shared<TaskPanelOverlay>();
-      panel_->draw(*task, settings_.width, settings_.height);
-    }
-#else
-    (void)task;
-#endif
-    context_->read(image_);
-    write_png(frame_path(frames_).c_str(), image_);
+    render(sim, task, frame_path(frames_));
     ++frames_;
-    total_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   }
+}
+
+void FrameRecorder::render_to(const Simulation& sim, const TaskView* task, const std::filesystem::path& file) {
+  render(sim, task, file);
+}
+
+void FrameRecorder::render(const Simulation& sim, const TaskView* task, const std::filesystem::path& file) {
+  const auto t0 = std::chrono::steady_clock::now();
+  capture_view(sim, snapshot_);
+  context_->bind();
+  renderer_->draw(snapshot_, view_, settings_.options, settings_.width, settings_.height);
+#ifdef TROCAR_RENDER_TASK_PANEL
+  if (task) {
+    if (!panel_) panel_ = std::make_shared<TaskPanelOverlay>();
+    panel_->draw(*task, settings_.width, settings_.height);
+  }
+#else
+  (void)task;
+#endif
+  context_->read(image_);
+  write_png(file.c_str(), image_);
+  total_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
 std::string encode_video(const std::filesystem::path& dir, double fps, const std::filesystem::path& video) {

@@ -46,6 +46,9 @@ class FrameRecorder {
   /// Renders every frame whose time (k / fps) the simulation has reached since the last call;
   /// with a task, its panel drawn at the top right of each (where draws_task_panel()).
   void on_step(const Simulation& sim, const TaskView* task = nullptr);
+  /// Renders the simulation as it is now into `file` (a PNG), outside the fps sequence: the
+  /// moment of an event (the trainee report's frames of errors).
+  void render_to(const Simulation& sim, const TaskView* task, const std::filesystem::path& file);
   /// Whether this build draws the task panel into frames (Dear ImGui was found).
   static bool draws_task_panel();
   /// Frames written so far.
@@ -69,6 +72,7 @@ class FrameRecorder {
   Image image_;
   std::size_t frames_ = 0;
   double total_ms_ = 0;
+  void render(const Simulation& sim, const TaskView* task, const std::filesystem::path& file);
 };
 
 /// Encodes dir/frame_%04d.png at fps into an H.264 MP4 with ffmpeg. Returns "" on success, else
