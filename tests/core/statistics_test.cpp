@@ -69,6 +69,10 @@ TEST(Stability, EnergyBoundIsHalfTheMassAtTheSpeedBound) {
   EXPECT_FALSE(is_stable(true, std::numeric_limits<double>::quiet_NaN(), 0.3));
   EXPECT_FALSE(is_stable(true, std::numeric_limits<double>::infinity(), 0.3));
   EXPECT_TRUE(is_stable(true, 0.0, 0.0));  // no tissue: nothing can run away
+  // Per tissue: the scene's energy within its bound, one tissue's RMS speed at or over 10 m/s.
+  EXPECT_TRUE(is_stable(true, 0.5, 4.0, 10.0));
+  EXPECT_FALSE(is_stable(true, 0.5, 4.0, 10.0001));
+  EXPECT_FALSE(is_stable(true, 15.0001, 0.3, 1.0));  // and still the scene's bound
 }
 
 }  // namespace

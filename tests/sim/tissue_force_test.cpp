@@ -2,6 +2,7 @@
 // tissue-handling metrics read (docs/assessment.md). Two balls, a probe pressing the right one.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <string>
 
 #include "trocar/scene/scene.h"
@@ -40,6 +41,15 @@ TEST_P(TissueForce, IsTheTouchedTissuesShareAndTheSharesSumToTheInstrumentsForce
     ASSERT_EQ(sim.tissue_force(0, 0), Vec3::Zero()) << "the left ball is never touched; step " << n;
     largest = std::max(largest, sim.tissue_force(1, 0).norm());
   }
+  // The largest tissue RMS speed is the right ball's (the left one is still): √(2 E_kin / m).
+  Real kinetic = 0, mass = 0;
+  const TissueBody& right = *sim.world().tissues[1];
+  for (std::size_t v = 0; v < right.state.velocities.size(); ++v) {
+    kinetic += 0.5 * right.settings.masses[v] * right.state.velocities[v].squaredNorm();
+    mass += right.settings.masses[v];
+  }
+  EXPECT_NEAR(sim.metrics().tissue_rms_speed, std::sqrt(2 * kinetic / mass), 1e-9 * (1 + std::sqrt(2 * kinetic / mass)));
+  EXPECT_GT(sim.metrics().tissue_rms_speed, 0);
   // The probe's tip 5 mm into the right ball: a push of the order of the response's K·depth.
   EXPECT_GT(largest, 0.1);
   EXPECT_GT(sim.tissue_force(1, 0).z(), 0) << "the ball pushes the probe up";

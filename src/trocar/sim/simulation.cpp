@@ -134,6 +134,7 @@ Simulation::Simulation(World world, const SimulationSettings& settings)
   }
   loads_.resize(ni);
   tissue_forces_.assign(nt * ni, Vec3::Zero());
+  for (const auto& tissue : world_.tissues) tissue_masses_.push_back(tissue->settings.total_mass());
   raw_before_.assign(ni, Vec3::Zero());
   instrument_metrics_.resize(ni);
   std::vector<ContactTissue> contact_tissues;
@@ -317,8 +318,12 @@ void Simulation::deform(Real dt) {
 }
 
 void Simulation::measure() {
-  for (const auto& tissue : world_.tissues) {
-    metrics_.kinetic_energy += kinetic_energy(tissue->settings, tissue->state.velocities);
+  for (std::size_t t = 0; t < world_.tissues.size(); ++t) {
+    TissueBody* tissue = world_.tissues[t].get();
+    const Real kinetic = kinetic_energy(tissue->settings, tissue->state.velocities);
+    metrics_.kinetic_energy += kinetic;
+    if (tissue_masses_[t] > 0)
+      metrics_.tissue_rms_speed = std::max(metrics_.tissue_rms_speed, std::sqrt(2 * kinetic / tissue_masses_[t]));
     metrics_.elastic_energy += tissue->energy.elastic(tissue->state.positions);
     if (!all_finite(tissue->state.positions) || !all_finite(tissue->state.velocities)) metrics_.finite = false;
     // The fastest speed as √(max |u|²): sqrt is monotonic, so the same bits as max |u|.

@@ -69,6 +69,9 @@ struct StepMetrics {
   Real kinetic_energy = 0;           ///< Σ ½ m v² over tissues (J)
   Real elastic_energy = 0;           ///< springs, area, volume, home springs (J; gravity excluded)
   Real max_speed = 0;                ///< fastest tissue vertex (m/s)
+  /// The largest mass-weighted RMS speed of a single tissue, √(2 E_kin,t / m_t) (m/s): what
+  /// core/stability.h bounds per tissue (a light tissue flung fast hides in the scene's total).
+  Real tissue_rms_speed = 0;
   bool finite = true;                ///< every position and velocity is finite
   std::uint32_t cg_iterations = 0;   ///< conjugate-gradient iterations of the implicit tissues
   std::uint32_t substeps = 0;        ///< xpbd tissues: substeps (one constraint pass each)
@@ -169,6 +172,7 @@ class Simulation {
   std::vector<InstrumentLoad> loads_;        ///< per instrument: this step's raw load, then clamped
   std::vector<Vec3> tissue_forces_;          ///< tissue-major: each tissue's share of loads_[i].raw_force
   std::vector<Vec3> raw_before_;             ///< per instrument: raw_force before a tissue's response ran
+  std::vector<Real> tissue_masses_;          ///< per tissue: Σ vertex masses (kg), for tissue_rms_speed
   /// Calls `respond` (one tissue's response adding to loads_) and credits what it added to tissue t.
   template <typename Respond>
   void credit_tissue(std::size_t t, Respond&& respond);

@@ -19,7 +19,7 @@ Real tissue_mass(const World& world) {
 Simulation make_simulation(Scene& scene) { return Simulation(std::move(scene.world), scene.settings); }
 
 bool step_is_stable(const StepMetrics& metrics, Real tissue_mass) {
-  return is_stable(metrics.finite, metrics.kinetic_energy, tissue_mass);
+  return is_stable(metrics.finite, metrics.kinetic_energy, tissue_mass, metrics.tissue_rms_speed);
 }
 
 DriveResult drive(Simulation& sim, Real dt, std::size_t steps) {
