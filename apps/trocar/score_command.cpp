@@ -62,10 +62,18 @@ ExpertReference load_reference(const fs::path& expert, bool quiet) {
   if (!fs::is_directory(expert)) throw Error("--expert " + expert.string() + ": no such file or folder");
   ExpertReference r;
   for (const fs::path& f : recordings_in(expert)) {
+    SessionTrace trace;
+    std::vector<Metric> metrics = metrics_of(f, quiet, &trace);
+    if (trace.unstable_at >= 0) {  // the blow-up's numbers would set the experts' level
+      std::fprintf(stderr, "score: expert session %s left out: its simulation blew up at %.3f s\n", f.c_str(),
+                   trace.unstable_at);
+      continue;
+    }
     if (!quiet) std::fprintf(stderr, "score: expert session %s\n", f.c_str());
     r.sessions.push_back(f.filename().string());
-    r.metrics.push_back(metrics_of(f, quiet));
+    r.metrics.push_back(std::move(metrics));
   }
+  if (r.metrics.empty()) throw Error("--expert " + expert.string() + ": no expert session to learn from");
   r.stats = expert_reference(r.metrics);
   return r;
 }
@@ -77,6 +85,9 @@ std::string format_value(const Metric& m) {
 }
 
 void print_summary(const Assessment& a, const SessionTrace& trace) {
+  if (!a.assessable)
+    std::printf("%s: NOT ASSESSABLE — the simulation blew up at %.3f s (a simulator failure)\n", trace.scene.c_str(),
+                trace.unstable_at);
   std::printf("%s: %s — %d scored metric%s below the expert level, %d error%s, task %s\n", trace.scene.c_str(),
               a.pass ? "PASS" : "FAIL", a.failed, a.failed == 1 ? "" : "s", a.errors, a.errors == 1 ? "" : "s",
               a.task_complete ? "complete" : "incomplete");

@@ -144,6 +144,34 @@ TEST_F(ScoreCli, AttemptsInAFolderMakeALearningCurveAgainstTheExperts) {
   EXPECT_NE(trocar_cli("score --history " + path("nowhere").string()).exit_code, 0);
 }
 
+TEST_F(ScoreCli, ASessionWhoseSimulationBlewUpIsNotAssessedNorTakenAsAnExpert) {
+  // Explicit Euler far beyond its stable step (k 10⁶ N/m on 1 g): it diverges within steps; the
+  // run stops at the first unstable step and its recording ends there.
+  const std::string diverging = R"({"schema": 1, "name": "diverging", "timestep": 0.001, "duration": 0.2, "gravity": [0, 0, -9.81],
+   "tissues": [{"name": "sheet", "mesh": {"generate": "sheet", "width": 0.05, "height": 0.05, "nx": 4, "ny": 4},
+     "material": {"mass": 0.001, "k_structural": 1000000, "k_bending": 1000, "damping": 0},
+     "fixed": {"indices": [0]}, "integrator": "explicit-euler"}],
+   "instruments": [{"name": "probe", "mesh": {"generate": "capsule", "radius": 0.003, "length": 0.05},
+     "motion": {"keyframes": [{"t": 0, "position": [0, 0, 0.05]}]}}]})";
+  fs::create_directories(path("experts"));
+  const fs::path blown = record("blown", diverging);
+  const RunResult r = trocar_cli("score " + blown.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("NOT ASSESSABLE"), std::string::npos) << r.output;
+  const nlohmann::json j = nlohmann::json::parse(slurp(path("blown.json")));
+  EXPECT_EQ(j["assessable"], false);
+  EXPECT_EQ(j["pass"], false);
+  EXPECT_GT(j["unstable_at_s"].get<double>(), 0);
+  EXPECT_NE(slurp(path("blown.html")).find("not assessable"), std::string::npos);
+  // As the only expert session it leaves no reference: refused, saying why.
+  fs::rename(blown, path("experts") / "blown.trec");
+  const RunResult ref = trocar_cli("score --expert " + path("experts").string() + " --write-reference " +
+                                   path("ref.json").string());
+  EXPECT_NE(ref.exit_code, 0);
+  EXPECT_NE(ref.output.find("blew up"), std::string::npos) << ref.output;
+  EXPECT_FALSE(fs::exists(path("ref.json")));
+}
+
 TEST_F(ScoreCli, BadInputIsRefusedWithAClearError) {
   const fs::path rec = record("press", probe_ball(0.1));
   std::string bytes = slurp(rec);

@@ -151,6 +151,19 @@ TEST(Proficiency, GoalsScoresMapTheDomainsMeanZ) {
   }
 }
 
+TEST(Proficiency, ASessionWhoseSimulationBlewUpIsNotAssessable) {
+  SessionTrace t = two_hands();
+  t.events.clear();
+  const std::vector<Metric> m = measure(t);
+  const std::vector<ExpertStats> ref = expert_reference({m, m});
+  EXPECT_TRUE(assess(t, m, ref).pass);
+  t.unstable_at = 1.5;
+  const Assessment a = assess(t, m, ref);
+  EXPECT_FALSE(a.assessable);
+  EXPECT_FALSE(a.pass);
+  EXPECT_EQ(a.failed, 0);  // not the trainee's metrics that failed
+}
+
 TEST(Proficiency, ErrorsOrAnUnfinishedTaskFailOverallWhateverTheMetrics) {
   SessionTrace t = two_hands();
   const std::vector<Metric> m = measure(t);

@@ -52,7 +52,9 @@ struct Assessment {
   int failed = 0;                     ///< scored metrics below the pass mark
   int errors = 0;                     ///< the procedure's errors
   bool task_complete = false;         ///< every task step done (true when the scene has no task)
-  /// Overall: every scored metric passes, no procedure error, the task complete.
+  bool assessable = true;             ///< the simulation stayed stable (SessionTrace::unstable_at < 0)
+  /// Overall: every scored metric passes, no procedure error, the task complete; never for a
+  /// session that cannot be assessed.
   bool pass = false;
 };
 

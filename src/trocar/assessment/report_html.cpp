@@ -88,6 +88,9 @@ std::string undone_steps(const TraceTask& task) {
 
 /// Why the session passed or failed, in one line: the three things the overall result rests on.
 std::string verdict_reason(const SessionTrace& trace, const Assessment& a) {
+  if (!a.assessable)
+    return "not assessable: the simulation blew up at " + fixed(trace.unstable_at, 3) +
+           " s (a simulator failure, not the trainee's); the numbers below are the blow-up's";
   const std::size_t scored = scored_count(a);
   std::string why;
   if (scored == 0) {

@@ -45,6 +45,8 @@ nlohmann::json assessment_json(const SessionTrace& trace, const Assessment& a) {
   nlohmann::json out = {{"scene", trace.scene},
                         {"duration_s", trace.time.empty() ? 0.0 : trace.time.back()},
                         {"pass", a.pass},
+                        {"assessable", a.assessable},
+                        {"unstable_at_s", trace.unstable_at},
                         {"failed_metrics", a.failed},
                         {"errors", a.errors},
                         {"task_complete", a.task_complete},

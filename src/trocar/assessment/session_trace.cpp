@@ -3,6 +3,7 @@
 
 #include <algorithm>
 
+#include "trocar/core/stability.h"
 #include "trocar/procedure/procedure.h"
 #include "trocar/scene/camera.h"
 
@@ -25,9 +26,11 @@ void TraceSampler::start(const Scene& scene, const Simulation& sim, const Proced
   trace_ = SessionTrace{};
   trace_.scene = scene.name;
   trace_.dt = scene.timestep;
-  camera_ = scene.cameras.empty() ? default_camera(world) : scene.cameras.front();
+  view_ = make_camera_view(scene.cameras.empty() ? default_camera(world) : scene.cameras.front(), kViewAspect);
   for (const InstrumentBody& body : world.instruments)
     trace_.instruments.push_back({body.name, body.tool, hand_of(body), {}, {}, {}, {}, {}});
+  tissue_mass_ = 0;
+  for (const auto& tissue : world.tissues) tissue_mass_ += tissue->settings.total_mass();
   for (std::size_t t = 0; t < world.tissues.size(); ++t)
     trace_.tissues.push_back({world.tissues[t]->name, procedure && t == procedure->mesh_tissue(), {}});
   sample(sim);  // the start, before the first step: the first step's motion counts
@@ -35,12 +38,14 @@ void TraceSampler::start(const Scene& scene, const Simulation& sim, const Proced
 
 void TraceSampler::step(const Simulation& sim, const Procedure* /*procedure*/, const StepRecord& /*record*/) {
   sample(sim);
+  const StepMetrics& m = sim.metrics();
+  if (trace_.unstable_at < 0 && !is_stable(m.finite, m.kinetic_energy, tissue_mass_, m.tissue_rms_speed))
+    trace_.unstable_at = sim.time();
 }
 
 void TraceSampler::sample(const Simulation& sim) {
   const World& world = sim.world();
   trace_.time.push_back(sim.time());
-  const CameraView view = make_camera_view(camera_, kViewAspect);
   const auto metrics = sim.instrument_metrics();
   for (std::size_t i = 0; i < trace_.instruments.size(); ++i) {
     InstrumentTrace& out = trace_.instruments[i];
@@ -48,7 +53,7 @@ void TraceSampler::sample(const Simulation& sim) {
     const Vec3 tip = in.pose().translation;
     Vec3 axis = in.top_world() - tip;  // the top vertex: the far end of the shaft (instrument.h)
     axis = axis.norm() > 0 ? Vec3(axis.normalized()) : Vec3::UnitZ();
-    const Eigen::Vector3d on_screen = view.project(tip, 1280, 720);
+    const Eigen::Vector3d on_screen = view_.project(tip, 1280, 720);
     const bool visible = on_screen.z() >= 0 && on_screen.z() <= 1 && on_screen.x() >= 0 && on_screen.x() <= 1280 &&
                          on_screen.y() >= 0 && on_screen.y() <= 720;
     out.tip.push_back(tip);

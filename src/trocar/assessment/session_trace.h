@@ -6,6 +6,7 @@
 
 #include "trocar/assessment/trace.h"
 #include "trocar/runtime/session.h"
+#include "trocar/scene/camera.h"
 
 namespace trocar {
 
@@ -31,7 +32,8 @@ class TraceSampler final : public ReplayObserver {
   void sample(const Simulation& sim);
 
   SessionTrace trace_;
-  CameraSpec camera_;
+  CameraView view_;  ///< the scope's (the scene's first camera), at the monitor's 16:9
+  Real tissue_mass_ = 0;  ///< kg, Σ over tissues: the stability bound's scale
 };
 
 }  // namespace trocar

@@ -64,6 +64,9 @@ struct SessionTrace {
   std::vector<TissueTrace> tissues;
   std::vector<TraceEvent> events;
   TraceTask task;
+  /// s: the first step whose state was not stable (core/stability.h), < 0 when none. After it the
+  /// numbers are the blow-up's, not the trainee's: the session cannot be assessed.
+  Real unstable_at = -1;
   std::size_t samples() const { return time.size(); }
 };
 
