@@ -201,7 +201,9 @@ class ErrorFrames final : public ReplayObserver {
 void score_session(const std::string& recording, const std::string& expert, const std::string& output, bool quiet) {
   ExpertReference reference;
   if (!expert.empty()) reference = load_reference(expert, quiet);
-  const fs::path html = output.empty() ? fs::path(recording).replace_extension(".html") : fs::path(output);
+  // Not RECORDING.json by default: a recording made beside its scene (scene.json → scene.trec)
+  // would have its scene overwritten.
+  const fs::path html = output.empty() ? fs::path(recording).replace_extension(".report.html") : fs::path(output);
   const fs::path json = fs::path(html).replace_extension(".json");
   SessionTrace trace;
   std::vector<ReportFrame> frames;
@@ -230,7 +232,7 @@ void add_score_command(CLI::App& app, int& exit_code) {
   cmd->add_option("recording", o->recording, "Session recording (trocar run --session, or --realtime --record)");
   cmd->add_option("--expert", o->expert,
                   "Expert sessions: a folder of recordings (*.trec) or a reference file (--write-reference)");
-  cmd->add_option("-o,--output", o->output, "The HTML report (default: the recording's name with .html; JSON beside it)");
+  cmd->add_option("-o,--output", o->output, "The HTML report (default: RECORDING.report.html; its JSON beside it, X.json for X.html)");
   cmd->add_option("--write-reference", o->write_reference,
                   "Write the reference of --expert's recordings (their metrics, mean, SD, best quartile) to this file");
   cmd->add_option("--history", o->history,

@@ -7,7 +7,8 @@
 namespace trocar::cli {
 
 /// Scores `recording` against `expert` (a folder of recordings or a reference file; "" for none),
-/// writes the HTML report to `output` ("" = beside the recording) and its JSON beside it.
+/// writes the HTML report to `output` ("" = RECORDING.report.html) and its JSON beside it (X.json for
+/// X.html).
 void score_session(const std::string& recording, const std::string& expert, const std::string& output, bool quiet);
 
 /// Adds the `score` subcommand.

@@ -70,9 +70,11 @@ TEST_F(ScoreCli, AHeadlessSessionReplaysBitForBitAndScoresToItsHandComputedPath)
   EXPECT_EQ(replay.exit_code, 0) << replay.output;
   EXPECT_NE(replay.output.find("identical"), std::string::npos) << replay.output;
 
-  const RunResult score = trocar_cli("score " + rec.string() + " -o " + path("press.html").string());
+  const std::string scene = slurp(path("press.json"));
+  const RunResult score = trocar_cli("score " + rec.string());
   ASSERT_EQ(score.exit_code, 0) << score.output;
-  const nlohmann::json j = nlohmann::json::parse(slurp(path("press.json")));
+  EXPECT_EQ(slurp(path("press.json")), scene) << "the scene beside the recording is left alone";
+  const nlohmann::json j = nlohmann::json::parse(slurp(path("press.report.json")));
   // The tip goes 16 mm straight down along its shaft and stays: path and depth 16 mm.
   EXPECT_NEAR((*metric(j, "path_length"))["value"].get<double>(), 0.016, 1e-9);
   EXPECT_NEAR((*metric(j, "depth_path"))["value"].get<double>(), 0.016, 1e-9);
@@ -81,14 +83,13 @@ TEST_F(ScoreCli, AHeadlessSessionReplaysBitForBitAndScoresToItsHandComputedPath)
   EXPECT_NEAR((*metric(j, "idle_time"))["value"].get<double>(), 0.1, 0.0025);
   EXPECT_GT((*metric(j, "force_max"))["value"].get<double>(), 0.1);  // the ball pushes back
   EXPECT_EQ(j["pass"], true);  // no reference, no task, no error
-  const std::string html = slurp(path("press.html"));
+  const std::string html = slurp(path("press.report.html"));
   EXPECT_NE(html.find("PASS"), std::string::npos);
   EXPECT_NE(html.find("<svg"), std::string::npos);
 
   // The same recording scores to the same bytes.
   ASSERT_EQ(trocar_cli("score -q " + rec.string() + " -o " + path("again.html").string()).exit_code, 0);
-  EXPECT_EQ(slurp(path("press.json")), slurp(path("again.json")));
-  EXPECT_EQ(slurp(path("press.html")).substr(0, 2000).find("again"), std::string::npos);
+  EXPECT_EQ(slurp(path("press.report.json")), slurp(path("again.json")));
 }
 
 TEST_F(ScoreCli, TheExpertsSetThePassMarkAndADetourFailsIt) {
@@ -110,7 +111,7 @@ TEST_F(ScoreCli, TheExpertsSetThePassMarkAndADetourFailsIt) {
   // Up 1 cm first, then down: 10 + 26 mm of path, above the experts' 16 mm.
   const fs::path trainee = record("detour", probe_ball(0.1, 0.05));
   ASSERT_EQ(trocar_cli("score -q " + trainee.string() + " --expert " + path("ref.json").string()).exit_code, 0);
-  const nlohmann::json j = nlohmann::json::parse(slurp(path("detour.json")));
+  const nlohmann::json j = nlohmann::json::parse(slurp(path("detour.report.json")));
   const nlohmann::json& path_length = *metric(j, "path_length");
   EXPECT_NEAR(path_length["value"].get<double>(), 0.036, 1e-9);
   EXPECT_EQ(path_length["pass"], false);
@@ -118,7 +119,7 @@ TEST_F(ScoreCli, TheExpertsSetThePassMarkAndADetourFailsIt) {
   // The expert folder itself gives the same scoring as the reference file written from it.
   ASSERT_EQ(trocar_cli("score -q " + trainee.string() + " --expert " + path("experts").string() + " -o " +
                        path("direct.html").string()).exit_code, 0);
-  EXPECT_EQ(slurp(path("detour.json")), slurp(path("direct.json")));
+  EXPECT_EQ(slurp(path("detour.report.json")), slurp(path("direct.json")));
 }
 
 TEST_F(ScoreCli, AttemptsInAFolderMakeALearningCurveAgainstTheExperts) {
@@ -158,11 +159,11 @@ TEST_F(ScoreCli, ASessionWhoseSimulationBlewUpIsNotAssessedNorTakenAsAnExpert) {
   const RunResult r = trocar_cli("score " + blown.string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("NOT ASSESSABLE"), std::string::npos) << r.output;
-  const nlohmann::json j = nlohmann::json::parse(slurp(path("blown.json")));
+  const nlohmann::json j = nlohmann::json::parse(slurp(path("blown.report.json")));
   EXPECT_EQ(j["assessable"], false);
   EXPECT_EQ(j["pass"], false);
   EXPECT_GT(j["unstable_at_s"].get<double>(), 0);
-  EXPECT_NE(slurp(path("blown.html")).find("not assessable"), std::string::npos);
+  EXPECT_NE(slurp(path("blown.report.html")).find("not assessable"), std::string::npos);
   // As the only expert session it leaves no reference: refused, saying why.
   fs::rename(blown, path("experts") / "blown.trec");
   const RunResult ref = trocar_cli("score --expert " + path("experts").string() + " --write-reference " +
@@ -193,6 +194,7 @@ TEST_F(ScoreCli, BadInputIsRefusedWithAClearError) {
   // --session records the scene as written: a --method override is refused.
   r = trocar_cli("run -q " + path("press.json").string() + " --method sdf --session " + path("m.trec").string());
   EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("records the scene as written"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(path("m.trec")));
 }
 
@@ -205,7 +207,7 @@ TEST_F(ScoreCli, TheNoviceTracksReportCarriesItsKnownErrors) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   r = trocar_cli("score -q " + rec.string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  const nlohmann::json j = nlohmann::json::parse(slurp(path("novice.json")));
+  const nlohmann::json j = nlohmann::json::parse(slurp(path("novice.report.json")));
   EXPECT_EQ(j["pass"], false);
   EXPECT_EQ(j["task_complete"], false);
   std::multiset<std::string> errors;
@@ -217,17 +219,17 @@ TEST_F(ScoreCli, TheNoviceTracksReportCarriesItsKnownErrors) {
   EXPECT_EQ(errors, expected);
   EXPECT_EQ((*metric(j, "vessels_grasped"))["value"].get<double>(), 1);
   EXPECT_EQ((*metric(j, "tacks_in_zones"))["value"].get<double>(), 1);
-  const std::string html = slurp(path("novice.html"));
+  const std::string html = slurp(path("novice.report.html"));
   EXPECT_NE(html.find("FAIL"), std::string::npos);
   EXPECT_NE(html.find("triangle_of_doom"), std::string::npos);
 #ifdef TROCAR_HAVE_RENDER
   // A frame of the scope at each error, beside the report, shown on its timeline.
   for (int k = 1; k <= 5; ++k) {
-    const std::string name = "novice_frames/error_0" + std::to_string(k) + ".png";
+    const std::string name = "novice.report_frames/error_0" + std::to_string(k) + ".png";
     EXPECT_TRUE(fs::exists(path(name))) << name;
     EXPECT_NE(html.find(name), std::string::npos) << name;
   }
-  EXPECT_FALSE(fs::exists(path("novice_frames/error_06.png")));
+  EXPECT_FALSE(fs::exists(path("novice.report_frames/error_06.png")));
 #endif
 }
 
