@@ -61,6 +61,14 @@ class ScoreCli : public ::testing::Test {
     EXPECT_EQ(r.exit_code, 0) << r.output;
     return path(name + ".trec");
   }
+  /// Three expert presses (16 mm in 0.08, 0.1 and 0.12 s) recorded into experts/.
+  void record_experts() {
+    fs::create_directories(path("experts"));
+    for (const double s : {0.08, 0.1, 0.12}) {
+      const fs::path r = record("e" + std::to_string(static_cast<int>(s * 100)), probe_ball(s));
+      fs::rename(r, path("experts") / r.filename());
+    }
+  }
   fs::path dir_;
 };
 
@@ -93,11 +101,7 @@ TEST_F(ScoreCli, AHeadlessSessionReplaysBitForBitAndScoresToItsHandComputedPath)
 }
 
 TEST_F(ScoreCli, TheExpertsSetThePassMarkAndADetourFailsIt) {
-  fs::create_directories(path("experts"));
-  for (const double s : {0.08, 0.1, 0.12}) {
-    const fs::path r = record("e" + std::to_string(static_cast<int>(s * 100)), probe_ball(s));
-    fs::rename(r, path("experts") / r.filename());
-  }
+  record_experts();
   const RunResult ref = trocar_cli("score --expert " + path("experts").string() + " --write-reference " +
                                    path("ref.json").string());
   ASSERT_EQ(ref.exit_code, 0) << ref.output;
@@ -123,11 +127,7 @@ TEST_F(ScoreCli, TheExpertsSetThePassMarkAndADetourFailsIt) {
 }
 
 TEST_F(ScoreCli, AttemptsInAFolderMakeALearningCurveAgainstTheExperts) {
-  fs::create_directories(path("experts"));
-  for (const double s : {0.08, 0.1, 0.12}) {
-    const fs::path r = record("e" + std::to_string(static_cast<int>(s * 100)), probe_ball(s));
-    fs::rename(r, path("experts") / r.filename());
-  }
+  record_experts();
   // Three attempts, detours 20, 10 and 0 mm up first: the path passes only at the third.
   fs::create_directories(path("trainee"));
   const double via[] = {0.06, 0.05, 0};

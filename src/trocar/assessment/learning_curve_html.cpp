@@ -264,34 +264,17 @@ std::string curve_plot(const Curve& c, std::span<const Attempt> attempts) {
 // Page sections
 
 constexpr const char* kCss = R"(
-body{font:15px/1.45 system-ui,-apple-system,"Segoe UI",Roboto,Helvetica,Arial,sans-serif;color:#1d1d1f;margin:0;background:#fff}
 main{max-width:1220px;margin:0 auto;padding:24px}
 header{border-bottom:2px solid #ddd;padding-bottom:12px}
 h1{margin:0 0 4px;font-size:24px}
 h2{font-size:19px;margin:28px 0 10px;padding-bottom:4px;border-bottom:1px solid #e3e3e3}
 .summary{font-size:17px;font-weight:600}
-.muted{color:#666}
-table{border-collapse:collapse;width:100%;font-size:14px;margin:6px 0}
-th,td{padding:4px 8px;border-bottom:1px solid #e6e6e6;text-align:left;vertical-align:top}
-th{background:#f3f4f6;font-weight:600}th.num{text-align:right}
-td.num{text-align:right;white-space:nowrap;font-variant-numeric:tabular-nums}
-td.pass,td.fail{text-align:center;font-weight:700}
-td.pass{background:#dcf2e2;color:#14602c}td.fail{background:#fbdada;color:#a31515}
 td.notyet{color:#a31515;font-weight:600}td.reached{color:#14602c;font-weight:600}
 .curves{display:flex;flex-wrap:wrap;gap:14px 18px;margin-top:8px}
 figure.curve{margin:0;width:380px;border:1px solid #e3e3e3;border-radius:6px;padding:8px 0 2px}
 figure.curve figcaption{padding:0 12px;font-size:14px;line-height:1.3}
 svg{display:block;max-width:100%;height:auto}svg text{font-size:11px}
 )";
-
-void page_start(std::string& out, const std::string& title) {
-  out += "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n";
-  out += "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n";
-  out +=
-      "<title>" + html_escape(title) + "</title>\n<style>" + std::string(kCss) + "</style>\n</head>\n<body>\n<main>\n";
-}
-
-void page_end(std::string& out) { out += "</main>\n</body>\n</html>\n"; }
 
 /// The attempt from which every metric with a pass mark stays passing (0: not yet or none).
 int all_proficient_from(const std::vector<Curve>& curves) {
@@ -439,7 +422,7 @@ void curves_section(std::string& out, std::span<const Attempt> attempts, const s
 std::string learning_curve_html(std::span<const Attempt> attempts, const std::vector<ExpertStats>& reference,
                                 const std::string& title) {
   std::string out;
-  page_start(out, title);
+  page_start(out, title, kCss);
   if (attempts.empty()) {
     out += "<header>\n<h1>" + html_escape(title) + "</h1>\n</header>\n";
     out += "<p id=\"no-attempts\" class=\"summary\">No attempts yet: the learning curve starts with the first "

@@ -39,7 +39,6 @@ std::string instrument_label(const InstrumentTrace& inst, std::size_t i) {
 // Page sections
 
 constexpr const char* kCss = R"(
-body{font:15px/1.45 system-ui,-apple-system,"Segoe UI",Roboto,Helvetica,Arial,sans-serif;color:#1d1d1f;margin:0;background:#fff}
 main{max-width:960px;margin:0 auto;padding:24px}
 header{display:flex;gap:24px;align-items:center;border-bottom:2px solid #ddd;padding-bottom:16px}
 .verdict{font-size:56px;font-weight:800;letter-spacing:3px;color:#fff;border-radius:10px;padding:6px 30px;line-height:1.2}
@@ -47,13 +46,6 @@ header{display:flex;gap:24px;align-items:center;border-bottom:2px solid #ddd;pad
 h1{margin:0 0 2px;font-size:24px}
 h2{font-size:19px;margin:30px 0 10px;padding-bottom:4px;border-bottom:1px solid #e3e3e3}
 .why{font-size:17px;font-weight:600;margin-top:6px}
-.muted{color:#666}
-table{border-collapse:collapse;width:100%;font-size:14px;margin:6px 0}
-th,td{padding:4px 8px;border-bottom:1px solid #e6e6e6;text-align:left;vertical-align:top}
-th{background:#f3f4f6;font-weight:600}th.num{text-align:right}
-td.num{text-align:right;white-space:nowrap;font-variant-numeric:tabular-nums}
-td.pass,td.fail{text-align:center;font-weight:700}
-td.pass{background:#dcf2e2;color:#14602c}td.fail{background:#fbdada;color:#a31515}
 tr.error td{background:#fdecea}tr.error td:first-child{box-shadow:inset 4px 0 #c62828}
 .notdone{color:#a31515;font-weight:600}table.narrow{width:auto;min-width:420px}
 .goals{display:flex;gap:24px;align-items:flex-start;flex-wrap:wrap}.goals table{width:auto;min-width:320px}
@@ -61,15 +53,6 @@ svg{display:block;max-width:100%;height:auto;margin:6px 0}svg text{font-size:11p
 .frames{display:flex;flex-wrap:wrap;gap:16px;margin-top:8px}
 figure{margin:0;width:320px}figure img{display:block;border:1px solid #ccc}figcaption{font-size:13px;margin-top:4px}
 )";
-
-void page_start(std::string& out, const std::string& title) {
-  out += "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n";
-  out += "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n";
-  out +=
-      "<title>" + html_escape(title) + "</title>\n<style>" + std::string(kCss) + "</style>\n</head>\n<body>\n<main>\n";
-}
-
-void page_end(std::string& out) { out += "</main>\n</body>\n</html>\n"; }
 
 std::size_t scored_count(const Assessment& a) {
   return static_cast<std::size_t>(std::count_if(
@@ -558,7 +541,7 @@ void plots_section(std::string& out, const SessionTrace& trace, const MetricSett
 std::string assessment_html(const SessionTrace& trace, const Assessment& assessment, const MetricSettings& settings,
                             std::span<const ReportFrame> frames, const std::string& title) {
   std::string out;
-  page_start(out, title);
+  page_start(out, title, kCss);
   header_section(out, trace, assessment, title);
   if (trace.task.present) task_section(out, trace.task);
   goals_section(out, assessment);

@@ -33,6 +33,27 @@ std::string html_escape(std::string_view text) {
   return out;
 }
 
+/// The style both pages share (the report and the learning curve).
+constexpr const char* kBaseCss = R"(
+body{font:15px/1.45 system-ui,-apple-system,"Segoe UI",Roboto,Helvetica,Arial,sans-serif;color:#1d1d1f;margin:0;background:#fff}
+.muted{color:#666}
+table{border-collapse:collapse;width:100%;font-size:14px;margin:6px 0}
+th,td{padding:4px 8px;border-bottom:1px solid #e6e6e6;text-align:left;vertical-align:top}
+th{background:#f3f4f6;font-weight:600}th.num{text-align:right}
+td.num{text-align:right;white-space:nowrap;font-variant-numeric:tabular-nums}
+td.pass,td.fail{text-align:center;font-weight:700}
+td.pass{background:#dcf2e2;color:#14602c}td.fail{background:#fbdada;color:#a31515}
+)";
+
+void page_start(std::string& out, const std::string& title, const char* css) {
+  out += "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n";
+  out += "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n";
+  out += "<title>" + html_escape(title) + "</title>\n<style>" + std::string(kBaseCss) + css +
+         "</style>\n</head>\n<body>\n<main>\n";
+}
+
+void page_end(std::string& out) { out += "</main>\n</body>\n</html>\n"; }
+
 namespace svg {
 
 // ---------------------------------------------------------------------------------------------

@@ -17,6 +17,12 @@ namespace trocar {
 /// Escapes & < > " ' for HTML text and attributes (also declared in report_html.h, its public home).
 std::string html_escape(std::string_view text);
 
+/// Opens a self-contained page: doctype, `title`, the shared style (body, tables, pass/fail cells)
+/// followed by the page's own `css`, then <body><main>.
+void page_start(std::string& out, const std::string& title, const char* css);
+/// Closes what page_start opened.
+void page_end(std::string& out);
+
 namespace svg {
 
 // ---------------------------------------------------------------------------------------------
