@@ -77,6 +77,9 @@ void InstrumentContacts::build_sample_grid(PerInstrument& p) {
   const std::span<const Vec3> samples = p.in.field->samples();
   p.sample_stamp.assign(samples.size(), 0);
   p.sample_index.assign(samples.size(), 0);
+  p.sample_from.assign(samples.size(), Vec3::Zero());
+  p.sample_to.assign(samples.size(), Vec3::Zero());
+  p.sample_placed.assign(samples.size(), 0);
   p.grid_box = Aabb::of_points(samples).inflated(1e-6);
   const Vec3 size = p.grid_box.size();
   // 2 mm cells, coarser when that would exceed 2^18 cells.
@@ -235,8 +238,14 @@ void InstrumentContacts::find_pairs(PerInstrument& p, const XpbdView& view) {
 void InstrumentContacts::add_pair(PerInstrument& p, std::uint32_t sample, std::uint32_t triangle, const Aabb& face,
                                   const Vec3& n, const Vec3& x0, const Vec3& x1, const Vec3& x2,
                                   std::span<const Vec3> samples) {
-  const Vec3 a0 = p.from.apply(samples[sample]);
-  const Vec3 a1 = p.to.apply(samples[sample]);
+  // A sample meets many faces: placed in the world once a round.
+  if (p.sample_placed[sample] != p.sample_round) {
+    p.sample_placed[sample] = p.sample_round;
+    p.sample_from[sample] = p.from.apply(samples[sample]);
+    p.sample_to[sample] = p.to.apply(samples[sample]);
+  }
+  const Vec3& a0 = p.sample_from[sample];
+  const Vec3& a1 = p.sample_to[sample];
   Aabb path;
   path.expand(a0);
   path.expand(a1);
@@ -256,6 +265,11 @@ void InstrumentContacts::add_pair(PerInstrument& p, std::uint32_t sample, std::u
   // only of its plane (a face along a shaft would otherwise pair with every sample over it).
   const Real lateral = settings_.contact_margin + tissue_reach_ + (a1 - a0).norm();
   const Vec3 over = a0 - d0 * n;  // a0 in the face's plane: only the in-plane distance counts here
+  // First against a sphere round the face (its centroid and farthest corner), then exactly.
+  const Vec3 centre = (x0 + x1 + x2) / 3;
+  const Real radius = std::sqrt(std::max({(x0 - centre).squaredNorm(), (x1 - centre).squaredNorm(),
+                                          (x2 - centre).squaredNorm()}));
+  if ((over - centre).squaredNorm() > (radius + lateral) * (radius + lateral)) return;
   if ((closest_point_on_triangle(over, x0, x1, x2).point - over).squaredNorm() > lateral * lateral) return;
   if (p.pairs.size() == p.pairs.capacity()) return;  // the bound on a step's work: never grow, never hang
   if (p.sample_stamp[sample] != p.sample_round) {

@@ -133,6 +133,9 @@ class InstrumentContacts final : public XpbdContacts {
     std::vector<std::uint32_t> grid_start, grid_samples;  ///< CSR: sample ids cell by cell
     std::vector<std::uint32_t> sample_stamp, sample_index;  ///< per sample: round listed, index in samples
     std::uint32_t sample_round = 0;
+    /// Per sample: its world position at the step's two poses, computed once a round (stamp).
+    std::vector<Vec3> sample_from, sample_to;
+    std::vector<std::uint32_t> sample_placed;
   };
   void build_sample_grid(PerInstrument& p);
   void add_pair(PerInstrument& p, std::uint32_t sample, std::uint32_t triangle, const Aabb& face, const Vec3& n,
