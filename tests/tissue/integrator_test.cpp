@@ -496,6 +496,7 @@ MassSpringSettings one_spring(Real mass, Real k) {
   s.springs = {Spring{0, 1, 0.01, k, 0}};
   s.structural_count = 1;
   s.rest_positions = {Vec3::Zero(), Vec3(0.01, 0, 0)};
+  s.home_positions = s.rest_positions;
   s.masses = {mass, mass};
   s.inverse_masses = {0, 1 / mass};
   s.fixed = {1, 0};

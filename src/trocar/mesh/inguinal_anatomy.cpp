@@ -202,6 +202,7 @@ InguinalAnatomy make_tapp_anatomy(HerniaKind kind, const TappOptions& o) {
     throw Error("tapp anatomy: sac_segments must be a multiple of 4 in [8, 128]");
   if (o.sac_rings < 2 || o.sac_rings > 64) throw Error("tapp anatomy: sac_rings must be in [2, 64]");
   if (!(o.sac_k_home >= 0)) throw Error("tapp anatomy: sac_k_home must be >= 0");
+  if (!(o.sac_home_yield >= 0)) throw Error("tapp anatomy: sac_home_yield must be >= 0");
   const bool direct = kind == HerniaKind::kDirect;
   // EHS 2 defects (1.5–3 cm, Miserez et al. 2007).
   const Real defect_d = o.defect_diameter > 0 ? o.defect_diameter : (direct ? 0.022 : 0.020);
@@ -412,7 +413,7 @@ InguinalAnatomy make_tapp_anatomy(HerniaKind kind, const TappOptions& o) {
                                 o.sac_rings, neck);
     if (o.sac_neck_fixed) s.fixed = neck;
     s.material_preset = "soft";
-    s.material = {{"k_home", o.sac_k_home}};
+    s.material = {{"k_home", o.sac_k_home}, {"home_yield", o.sac_home_yield}};
     s.colour = kSac.colour;
     s.opacity = kSac.opacity;
     out.structures.push_back(std::move(s));

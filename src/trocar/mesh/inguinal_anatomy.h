@@ -39,6 +39,9 @@ struct TappOptions {
   Real defect_diameter = 0;          ///< m; 0: the kind's default (indirect 20 mm, direct 22 mm: EHS 2)
   Real sac_length = 0;               ///< m, how far the sac protrudes; 0: indirect 40 mm, direct 25 mm
   Real sac_k_home = 0.5;             ///< N/m, the sac's home springs (holds it against gravity)
+  /// m, the sac's home springs' yield (MassSpringMaterial::home_yield; 0: elastic): with a free
+  /// neck, a sac drawn back further than this stays back, within it of where it was let go.
+  Real sac_home_yield = 0;
   /// The sac's neck ring fixed in the wall's plane (true), or free and held by the home springs
   /// alone (false: the sac with its contents is a closed body that slides back through the defect).
   bool sac_neck_fixed = true;

@@ -20,6 +20,7 @@ void set_material_field(MassSpringMaterial& m, const std::string& key, Real valu
   else if (key == "k_area") m.k_area = value;
   else if (key == "k_volume") m.k_volume = value;
   else if (key == "k_home") m.k_home = value;
+  else if (key == "home_yield") m.home_yield = value;
   else throw Error("unknown material field '" + key + "'");
 }
 
@@ -51,7 +52,7 @@ void add_structure(const AnatomyStructure& s, Scene& scene) {
 
 void read_anatomy(const JsonReader& spec, Scene& scene) {
   spec.expect_keys({"generate", "hernia", "cell", "tube_segments", "tube_spacing", "sac_segments", "sac_rings",
-                    "defect_diameter", "sac_length", "sac_k_home", "sac_neck_fixed"});
+                    "defect_diameter", "sac_length", "sac_k_home", "sac_home_yield", "sac_neck_fixed"});
   const JsonReader gen = spec.at("generate");
   if (gen.string() != "tapp-inguinal") gen.fail("unknown anatomy \"" + gen.string() + "\" (known: tapp-inguinal)");
   const JsonReader h = spec.at("hernia");
@@ -79,6 +80,7 @@ void read_anatomy(const JsonReader& spec, Scene& scene) {
   length("defect_diameter", o.defect_diameter, 0.01, 0.024);
   length("sac_length", o.sac_length, 0.005, 0.08);
   length("sac_k_home", o.sac_k_home, 0, 1e4);
+  length("sac_home_yield", o.sac_home_yield, 0, 0.1);
   o.sac_neck_fixed = spec.boolean_or("sac_neck_fixed", o.sac_neck_fixed);
   InguinalAnatomy anatomy;
   try {

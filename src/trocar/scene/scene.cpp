@@ -43,7 +43,7 @@ std::string name_or(const JsonReader& obj, const char* prefix, std::size_t index
 
 MassSpringMaterial read_material(const JsonReader& m) {
   m.expect_keys({"preset", "mass", "density", "sheet_thickness", "k_structural", "k_bending", "damping",
-                 "spring_damping", "k_area", "k_volume", "k_home"});
+                 "spring_damping", "k_area", "k_volume", "k_home", "home_yield"});
   MassSpringMaterial out;
   if (m.has("preset")) {
     const JsonReader p = m.at("preset");
@@ -67,6 +67,7 @@ MassSpringMaterial read_material(const JsonReader& m) {
   field("k_area", out.k_area);
   field("k_volume", out.k_volume);
   field("k_home", out.k_home);
+  field("home_yield", out.home_yield);
   return out;
 }
 

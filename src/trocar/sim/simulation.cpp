@@ -305,6 +305,7 @@ void Simulation::deform(Real dt) {
     if (tissue_waiting_[t]) continue;  // outside the body: not stepped
     TissueBody& tissue = *world_.tissues[t];
     const StepStats stats = tissue.integrator.step(tissue.state, tissue.loads, dt);
+    if (yield_home(tissue.settings, tissue.state)) tissue.integrator.home_moved();  // plastic anchors
     metrics_.finite = metrics_.finite && stats.finite;
     metrics_.cg_iterations += static_cast<std::uint32_t>(stats.cg_iterations);
     metrics_.substeps = std::max(metrics_.substeps, static_cast<std::uint32_t>(stats.substeps));

@@ -69,7 +69,7 @@ Real six_volume_scalar(const Triangle* tris, std::size_t nt, const Padded3* x) {
 
 Real update_scalar(const MassSpringSettings& s, Vec3* x, Vec3* v, const UpdateInputs& in) {
   const std::size_t n = s.vertex_count();
-  const Vec3* x0 = s.rest_positions.data();
+  const Vec3* x0 = s.home_positions.data();
   Real check = 0;
   for (std::size_t i = 0; i < n; ++i) {
     Padded3& p = in.pair[i];

@@ -111,7 +111,7 @@ TROCAR_AVX2 Real sweep_avx2(SweepPlan& p, const MassSpringSettings& s, Vec3* x, 
 
   const Real* mass = s.masses.data();
   const Real* inverse_mass = s.inverse_masses.data();
-  const Vec3* rest = s.rest_positions.data();
+  const Vec3* rest = s.home_positions.data();
   const __m256d zero = _mm256_setzero_pd();
   __m256d check = zero;
   std::size_t copied = 0, copy_slot = 0, update_slot = 0, next_load = 0;

@@ -255,7 +255,7 @@ void accumulate_forces(const MassSpringSettings& s, std::span<const Vec3> x, std
   const Real gamma = terms.global_damping ? s.damping : 0.0;
   const Vec3 g = terms.gravity ? s.gravity : Vec3::Zero();
   if (k_home == 0 && gamma == 0 && g.isZero(0)) return;
-  const Vec3* x0 = s.rest_positions.data();
+  const Vec3* x0 = s.home_positions.data();
   const Real* m = s.masses.data();
   const Vec3* vp = v.data();
   for (std::size_t i = 0; i < n; ++i) f[i] += m[i] * (g - gamma * vp[i]) - k_home * (xp[i] - x0[i]);
@@ -278,7 +278,7 @@ Real potential_energy(const MassSpringSettings& s, std::span<const Vec3> x, cons
   if (volume_term_on(s, terms)) e += volume_energy(s, volume_of(s, xp));
   if (terms.home && s.k_home != 0) {
     Real sum = 0;
-    for (std::size_t i = 0; i < x.size(); ++i) sum += (xp[i] - s.rest_positions[i]).squaredNorm();
+    for (std::size_t i = 0; i < x.size(); ++i) sum += (xp[i] - s.home_positions[i]).squaredNorm();
     e += 0.5 * s.k_home * sum;
   }
   if (terms.gravity) {

@@ -167,6 +167,10 @@ TROCAR_AVX2 void apply_springs(const std::vector<CgSpringQuad>& cache, const Pad
 }  // namespace
 #endif  // TROCAR_HAVE_X86
 
+void ImplicitAvx2::home_moved(const MassSpringSettings& settings) {
+  copy_padded(settings.home_positions.data(), settings.vertex_count(), rest_.data());
+}
+
 ImplicitAvx2::ImplicitAvx2(const MassSpringSettings& settings)
     : settings_(settings),
       springs_(make_spring_layout(settings.springs, settings.vertex_count(), &settings.fixed)),
@@ -183,7 +187,7 @@ ImplicitAvx2::ImplicitAvx2(const MassSpringSettings& settings)
   std::span<Padded3>* arrays[] = {&x_, &v_, &rest_, &f_, &dv_, &r_, &p_, &z_, &q_, &gradient_};
   arrays_.allocate(n, std::size(arrays));
   for (std::size_t k = 0; k < std::size(arrays); ++k) *arrays[k] = arrays_[k];
-  copy_padded(settings.rest_positions.data(), n, rest_.data());
+  copy_padded(settings.home_positions.data(), n, rest_.data());
   preconditioner_.assign(n, Block3{});
   diagonal_mass_.assign(n, 0.0);
   free_.resize(n);

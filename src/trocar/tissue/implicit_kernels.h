@@ -43,6 +43,8 @@ struct alignas(32) Block3 {
 class ImplicitAvx2 {
  public:
   explicit ImplicitAvx2(const MassSpringSettings& settings);
+  /// Copies the home anchors again (after yield_home() moved them).
+  void home_moved(const MassSpringSettings& settings);
 
   /// True when this solver handles `terms` (the area term is off or zero).
   static bool supports(const MassSpringSettings& s, const ForceTerms& terms);

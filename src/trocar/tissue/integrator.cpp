@@ -77,10 +77,16 @@ void MassSpringIntegrator::build_passes() {
   padded_positions_ = padded_[2];
   padded_velocities_ = padded_[3];
   padded_rest_ = padded_[4];
-  tissue_detail::copy_padded(settings_.rest_positions.data(), n, padded_rest_.data());
+  tissue_detail::copy_padded(settings_.home_positions.data(), n, padded_rest_.data());
   spring_layout_ = tissue_detail::make_spring_layout(settings_.springs, n, &settings_.fixed);
   volume_layout_ = tissue_detail::make_volume_layout(settings_.triangles, n);
   passes_built_ = true;
+}
+
+void MassSpringIntegrator::home_moved() {
+  if (passes_built_)
+    tissue_detail::copy_padded(settings_.home_positions.data(), settings_.vertex_count(), padded_rest_.data());
+  if (implicit_avx2_) implicit_avx2_->home_moved(settings_);
 }
 
 void MassSpringIntegrator::set_simd(bool on) {

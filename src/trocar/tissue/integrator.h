@@ -63,6 +63,8 @@ class MassSpringIntegrator {
   IntegratorKind kind() const { return kind_; }
   /// xpbd: the contact handler every step solves inside its substeps (null: none). Not owned.
   void set_contacts(XpbdContacts* contacts) { contacts_ = contacts; }
+  /// The settings' home anchors moved (yield_home()): copies them again where a pass keeps its own.
+  void home_moved();
   /// xpbd: the solver (null for the other kinds).
   XpbdSolver* xpbd() { return xpbd_.get(); }
   const MassSpringSettings& settings() const { return settings_; }

@@ -111,7 +111,7 @@ void MassSpringIntegrator::linearise(const MassSpringState& state, const TissueL
     const Real k_home = terms_.home ? s.k_home : 0.0;
     const P3 g = terms_.gravity ? load(s.gravity) : P3{0, 0, 0};
     const Real* mass = s.masses.data();
-    const Vec3* x0 = s.rest_positions.data();
+    const Vec3* x0 = s.home_positions.data();
     for (std::size_t i = 0; i < n; ++i) {
       const P3 vi = load(v[i]);
       add_to(f[i], mass[i] * (g - gamma * vi) - k_home * (load(x[i]) - load(x0[i]) + h * vi));

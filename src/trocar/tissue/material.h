@@ -24,6 +24,10 @@ struct MassSpringMaterial {
   Real k_area = 0;                ///< N/m: energy ½·k_area·(A−A0)²/Ā0 per triangle
   Real k_volume = 0;              ///< Pa: energy ½·k_volume·(V−V0)²/V0 (closed meshes only)
   Real k_home = 0;                ///< N/m: spring from each vertex to its rest position
+  /// m: the home springs' yield (0: elastic). Stretched further, a vertex's anchor follows it to
+  /// this distance (perfect plasticity): attachments that give under traction, so that a hernia
+  /// sac drawn back stays back, within this distance of where it was let go (docs/tissue.md).
+  Real home_yield = 0;
 };
 
 /// A half-space n·(x − point) < 0 ("below the plane"); normal need not be unit.

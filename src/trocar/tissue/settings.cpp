@@ -25,6 +25,7 @@ void check_material(const MassSpringMaterial& m) {
   require(m.k_area, "k_area");
   require(m.k_volume, "k_volume");
   require(m.k_home, "k_home");
+  require(m.home_yield, "home_yield");
   if (m.mass == 0 && m.density == 0) throw Error("material: mass or density must be > 0");
 }
 
@@ -50,9 +51,11 @@ MassSpringSettings MassSpringSettings::build(const TriMesh& mesh, const MassSpri
   MassSpringSettings s;
   s.triangles = mesh.triangles;
   s.rest_positions = mesh.positions;
+  s.home_positions = mesh.positions;
   s.k_area = material.k_area;
   s.k_volume = material.k_volume;
   s.k_home = material.k_home;
+  s.home_yield = material.home_yield;
   s.damping = material.damping;
   s.gravity = gravity;
 

@@ -19,7 +19,8 @@ struct Spring {
 };
 
 /// Topology, rest state, masses and stiffnesses of one tissue. Built once; never changes
-/// during a simulation, so any number of MassSpringState instances can share it.
+/// during a simulation (so any number of MassSpringState instances can share it), except the
+/// home anchors of a tissue with a home yield (yield_home()).
 struct MassSpringSettings {
   std::vector<Spring> springs;           ///< structural springs first, then bending springs
   std::size_t structural_count = 0;      ///< springs[0, structural_count) are on mesh edges
@@ -28,13 +29,15 @@ struct MassSpringSettings {
   Real mean_rest_area = 0;               ///< Ā0 (m²), normalises the area term
   bool closed = false;                   ///< volume term applies only to closed meshes
   Real rest_volume = 0;                  ///< V0 (m³), signed volume at rest
-  std::vector<Vec3> rest_positions;      ///< x0 per vertex (m), home-spring anchors
+  std::vector<Vec3> rest_positions;      ///< x0 per vertex (m): the shape at rest
+  std::vector<Vec3> home_positions;      ///< the home springs' anchors (m): x0 until they yield
   std::vector<Real> masses;              ///< m_i (kg), lumped by adjacent area
   std::vector<Real> inverse_masses;      ///< 1/m_i, 0 for fixed vertices
   std::vector<std::uint8_t> fixed;       ///< 1 when the vertex never moves
   Real k_area = 0;                       ///< N/m
   Real k_volume = 0;                     ///< Pa
   Real k_home = 0;                       ///< N/m
+  Real home_yield = 0;                   ///< m, 0: elastic (MassSpringMaterial::home_yield)
   Real damping = 0;                      ///< γ (1/s)
   Vec3 gravity = Vec3::Zero();           ///< m/s²
 

@@ -37,4 +37,19 @@ void TissueLoads::add_force(std::uint32_t vertex, const Vec3& f) {
   forces_[vertex] += f;
 }
 
+bool yield_home(MassSpringSettings& settings, const MassSpringState& state) {
+  const Real yield = settings.home_yield;
+  if (!(yield > 0) || settings.k_home == 0) return false;
+  bool moved = false;
+  for (std::size_t i = 0; i < settings.vertex_count(); ++i) {
+    if (settings.fixed[i]) continue;
+    const Vec3 stretch = state.positions[i] - settings.home_positions[i];
+    const Real length = stretch.norm();
+    if (!(length > yield)) continue;  // within the yield (or not finite: left to the stability check)
+    settings.home_positions[i] += (1 - yield / length) * stretch;
+    moved = true;
+  }
+  return moved;
+}
+
 }  // namespace trocar

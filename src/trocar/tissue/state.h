@@ -60,4 +60,10 @@ class TissueLoads {
   std::vector<std::uint8_t> is_loaded_;   ///< 1 for the vertices in loaded_
 };
 
+/// Perfectly plastic home springs: every free vertex further than `settings.home_yield` from its
+/// anchor drags the anchor along the line between them to that distance. Returns whether an
+/// anchor moved (the integrator must then be told: MassSpringIntegrator::home_moved()). No-op
+/// when the yield or k_home is 0.
+bool yield_home(MassSpringSettings& settings, const MassSpringState& state);
+
 }  // namespace trocar

@@ -292,7 +292,7 @@ void XpbdSolver::solve_home(float inv_h2) {
   for (std::size_t i = 0; i + 1 < x_.size(); ++i) {
     XpbdParticle& p = x_[i];
     if (p.w == 0.f) continue;
-    const Vec3& r = settings_.rest_positions[i];
+    const Vec3& r = settings_.home_positions[i];
     const float f = p.w / (p.w + alpha);  // the vector constraint x − x0 solved exactly
     p.x -= f * (p.x - static_cast<float>(r.x()));
     p.y -= f * (p.y - static_cast<float>(r.y()));
