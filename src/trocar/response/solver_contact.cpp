@@ -212,6 +212,11 @@ void InstrumentContacts::find_pairs(PerInstrument& p, const XpbdView& view) {
       const Real nn = n.norm();
       if (!(nn > 0)) continue;
       n /= nn;
+      // The face's bounding sphere (centroid, farthest corner): add_pair's cheap test before the exact one.
+      const Vec3 centre = (x0 + x1 + x2) / 3;
+      const Real radius = std::sqrt(std::max({(x0 - centre).squaredNorm(), (x1 - centre).squaredNorm(),
+                                              (x2 - centre).squaredNorm()}));
+      const FaceSphere sphere{centre, radius};
       face = face.inflated(p.depth_limit + tissue_reach_);
       Aabb local = to_inverse.apply(face);
       local.expand(from_inverse.apply(face));
@@ -230,14 +235,14 @@ void InstrumentContacts::find_pairs(PerInstrument& p, const XpbdView& view) {
           for (std::size_t cx = lo[0]; cx <= hi[0]; ++cx) {
             const std::size_t cell = (cz * p.grid_n[1] + cy) * p.grid_n[0] + cx;
             for (std::uint32_t k2 = p.grid_start[cell]; k2 < p.grid_start[cell + 1]; ++k2)
-              add_pair(p, p.grid_samples[k2], t, face, n, x0, x1, x2, samples);
+              add_pair(p, p.grid_samples[k2], t, face, n, x0, x1, x2, sphere, samples);
           }
     }
 }
 
 void InstrumentContacts::add_pair(PerInstrument& p, std::uint32_t sample, std::uint32_t triangle, const Aabb& face,
                                   const Vec3& n, const Vec3& x0, const Vec3& x1, const Vec3& x2,
-                                  std::span<const Vec3> samples) {
+                                  const FaceSphere& sphere, std::span<const Vec3> samples) {
   // A sample meets many faces: placed in the world once a round.
   if (p.sample_placed[sample] != p.sample_round) {
     p.sample_placed[sample] = p.sample_round;
@@ -265,11 +270,9 @@ void InstrumentContacts::add_pair(PerInstrument& p, std::uint32_t sample, std::u
   // only of its plane (a face along a shaft would otherwise pair with every sample over it).
   const Real lateral = settings_.contact_margin + tissue_reach_ + (a1 - a0).norm();
   const Vec3 over = a0 - d0 * n;  // a0 in the face's plane: only the in-plane distance counts here
-  // First against a sphere round the face (its centroid and farthest corner), then exactly.
-  const Vec3 centre = (x0 + x1 + x2) / 3;
-  const Real radius = std::sqrt(std::max({(x0 - centre).squaredNorm(), (x1 - centre).squaredNorm(),
-                                          (x2 - centre).squaredNorm()}));
-  if ((over - centre).squaredNorm() > (radius + lateral) * (radius + lateral)) return;
+  // First against the sphere round the face, then exactly.
+  const Real reach = sphere.radius + lateral;
+  if ((over - sphere.centre).squaredNorm() > reach * reach) return;
   if ((closest_point_on_triangle(over, x0, x1, x2).point - over).squaredNorm() > lateral * lateral) return;
   if (p.pairs.size() == p.pairs.capacity()) return;  // the bound on a step's work: never grow, never hang
   if (p.sample_stamp[sample] != p.sample_round) {

@@ -137,9 +137,15 @@ class InstrumentContacts final : public XpbdContacts {
     std::vector<Vec3> sample_from, sample_to;
     std::vector<std::uint32_t> sample_placed;
   };
+  /// A face's bounding sphere: no point of the face is further than `radius` from `centre`.
+  struct FaceSphere {
+    Vec3 centre;
+    Real radius;
+  };
   void build_sample_grid(PerInstrument& p);
   void add_pair(PerInstrument& p, std::uint32_t sample, std::uint32_t triangle, const Aabb& face, const Vec3& n,
-                const Vec3& x0, const Vec3& x1, const Vec3& x2, std::span<const Vec3> samples);
+                const Vec3& x0, const Vec3& x1, const Vec3& x2, const FaceSphere& sphere,
+                std::span<const Vec3> samples);
   void find_candidates(PerInstrument& p, const XpbdView& view);
   void update_grasp(PerInstrument& p, const XpbdView& view);
   void find_pairs(PerInstrument& p, const XpbdView& view);
