@@ -29,7 +29,9 @@ struct ThermalProperties {
   Real density = 1050;            ///< ρ, kg/m³ (IT'IS tissue database, soft tissue ≈ 1050)
   Real specific_heat = 3600;      ///< c, J/(kg·K) (IT'IS: 3400–3700 for muscle, liver, peritoneum)
   Real conductivity = 0.5;        ///< κ, W/(m·K) (IT'IS: 0.46–0.52)
-  Real heated_depth = 1e-3;       ///< d, m: the layer under the electrode the power heats
+  /// d, m: the layer under the electrode the power heats (about the thermal spread of a hook, and
+  /// the peritoneum with the fascia under it).
+  Real heated_depth = 5e-4;
   Real water_fraction = 0.7;      ///< w (soft tissue 70–80 % water)
   Real latent_heat = 2.26e6;      ///< L, J/kg: water's heat of vaporisation at 100 °C
   Real perfusion = 0.5;           ///< w_b, kg/(m³·s): blood perfusion rate (Pennes)

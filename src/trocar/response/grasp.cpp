@@ -10,6 +10,24 @@ void Grasp::reset(std::size_t vertex_count) {
   held_.reserve(vertex_count);
 }
 
+void Grasp::remodel(std::span<const std::uint32_t> vertex_origin) {
+  std::vector<std::int64_t> slot(flags_.size(), -1);
+  for (std::size_t k = 0; k < held_.size(); ++k) slot[held_[k].vertex] = static_cast<std::int64_t>(k);
+  std::vector<GraspedVertex> held;
+  held.reserve(vertex_origin.size());
+  std::vector<std::uint8_t> flags(vertex_origin.size(), 0);
+  for (std::uint32_t v = 0; v < vertex_origin.size(); ++v) {
+    const std::uint32_t old = vertex_origin[v];
+    if (old >= slot.size() || slot[old] < 0) continue;
+    GraspedVertex g = held_[static_cast<std::size_t>(slot[old])];
+    g.vertex = v;
+    held.push_back(g);
+    flags[v] = 1;
+  }
+  held_ = std::move(held);
+  flags_ = std::move(flags);
+}
+
 void Grasp::grab(std::uint32_t v, const Vec3& x, std::uint32_t triangle, const Instrument& instrument) {
   if (v >= flags_.size() || flags_[v] != 0) return;
   flags_[v] = 1;

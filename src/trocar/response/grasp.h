@@ -31,6 +31,9 @@ class Grasp {
   void grab(std::uint32_t v, const Vec3& x, std::uint32_t triangle, const Instrument& instrument);
   /// Releases every vertex.
   void release_all();
+  /// The tissue's vertices were renumbered (a cut): new vertex v copies old vertex
+  /// vertex_origin[v]. Every copy of a held vertex stays held where it was. Allocates.
+  void remodel(std::span<const std::uint32_t> vertex_origin);
   /// The held vertices.
   std::span<const GraspedVertex> held() const { return held_; }
   /// Writes every held vertex's position (pose ∘ local) and velocity (the instrument's velocity

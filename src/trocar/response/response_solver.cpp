@@ -27,6 +27,14 @@ void ResponseSolver::reset(std::size_t tissue_vertex_count) {
   touched_.reserve(tissue_vertex_count);
 }
 
+void ResponseSolver::remodel(std::span<const std::uint32_t> vertex_origin) {
+  grasp_.remodel(vertex_origin);
+  correction_.assign(vertex_origin.size(), Vec3::Zero());
+  correction_weight_.assign(vertex_origin.size(), 0);
+  touched_.clear();
+  touched_.reserve(vertex_origin.size());
+}
+
 ResponseStats ResponseSolver::apply(std::span<const Contact> contacts, std::uint32_t instrument_object,
                                     std::uint32_t tissue_object, const Instrument& instrument,
                                     const TissueView& tissue, TissueLoads& loads, InstrumentLoad& load) {

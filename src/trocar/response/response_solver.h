@@ -62,6 +62,8 @@ class ResponseSolver {
   void reset(std::size_t tissue_vertex_count);
   /// The settings.
   const ResponseSettings& settings() const { return settings_; }
+  /// The tissue's vertices were renumbered (a cut; Grasp::remodel): re-sizes, keeps the grasp.
+  void remodel(std::span<const std::uint32_t> vertex_origin);
   /// Replaces the settings (method, gains, clamp).
   void set_settings(const ResponseSettings& settings) { settings_ = settings; }
 

@@ -71,6 +71,29 @@ void InstrumentContacts::reset(std::span<const Vec3> positions, std::span<const 
   }
 }
 
+void InstrumentContacts::remodel(std::span<const Vec3> positions, std::span<const Triangle> triangles, bool closed,
+                                 std::span<const std::uint32_t> vertex_origin) {
+  std::vector<SolverInstrument> instruments;
+  std::vector<std::vector<HeldVertex>> held;
+  for (const PerInstrument& p : per_) {
+    instruments.push_back(p.in);
+    held.push_back(p.held);
+  }
+  const std::size_t old_count = is_held_.size();
+  reset(positions, triangles, closed, instruments, settings_);
+  std::vector<std::int64_t> slot(old_count, -1);
+  for (std::size_t i = 0; i < per_.size(); ++i) {
+    for (std::size_t k = 0; k < held[i].size(); ++k) slot[held[i][k].vertex] = static_cast<std::int64_t>(k);
+    for (std::uint32_t v = 0; v < vertex_origin.size(); ++v) {
+      const std::uint32_t old = vertex_origin[v];
+      if (old >= old_count || slot[old] < 0) continue;
+      per_[i].held.push_back({v, held[i][static_cast<std::size_t>(slot[old])].local});
+      is_held_[v] = 1;
+    }
+    for (const HeldVertex& h : held[i]) slot[h.vertex] = -1;
+  }
+}
+
 void InstrumentContacts::build_sample_grid(PerInstrument& p) {
   p.grid_start.clear();
   if (p.in.field == nullptr || p.in.field->empty()) return;

@@ -87,6 +87,12 @@ class InstrumentContacts final : public XpbdContacts {
   void reset(std::span<const Vec3> positions, std::span<const Triangle> triangles, bool closed,
              std::span<const SolverInstrument> instruments, const ResponseSettings& settings);
 
+  /// The tissue changed (a cut): sizes everything for its new rest positions and triangles like
+  /// reset(), with the same instruments and settings; every copy (vertex_origin: new → old vertex)
+  /// of a held vertex stays held. Allocates.
+  void remodel(std::span<const Vec3> positions, std::span<const Triangle> triangles, bool closed,
+               std::span<const std::uint32_t> vertex_origin);
+
   void begin_step(const XpbdView& view, int substeps) override;
   void solve(const XpbdView& view, int substep, int substeps, Real h) override;
   /// Each vertex a contact moved this substep keeps at most the instrument's speed along the

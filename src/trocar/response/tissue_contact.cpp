@@ -67,6 +67,39 @@ TissueContactSolver::TissueContactSolver(std::vector<ContactTissue> tissues, std
 
 TissueContactSolver::~TissueContactSolver() = default;
 
+void TissueContactSolver::remodel(std::size_t t, const ContactTissue& tissue,
+                                  std::span<const std::uint32_t> triangle_origin, std::size_t old_triangle_count,
+                                  Real time) {
+  if (t >= tissues_.size()) return;
+  tissues_[t] = tissue;
+  std::vector<std::uint32_t> renumbered(old_triangle_count, std::numeric_limits<std::uint32_t>::max());
+  for (std::uint32_t k = 0; k < triangle_origin.size(); ++k) renumbered[triangle_origin[k]] = k;
+  for (AttachmentState& a : attachments_)
+    for (SurfacePoint* p : {&a.spec.a, &a.spec.b}) {
+      if (p->tissue != t) continue;
+      const std::uint32_t now = p->triangle < renumbered.size() ? renumbered[p->triangle]
+                                                                 : std::numeric_limits<std::uint32_t>::max();
+      if (now != std::numeric_limits<std::uint32_t>::max()) {
+        p->triangle = now;
+      } else if (a.holding) {
+        a.holding = false;  // its tissue was cut away under it
+        a.torn_at = time;
+        a.force = 0;
+      }
+    }
+  if (body_of_[t] < 0) return;
+  Body& body = bodies_[static_cast<std::size_t>(body_of_[t])];
+  const MassSpringSettings& s = *tissue.settings;
+  body.side = s.closed ? (s.rest_volume >= 0 ? 1 : -1) : 0;
+  body.start = tissue.state->positions;
+  body.lo.resize(s.triangles.size());
+  body.hi.resize(s.triangles.size());
+  body.grid.reset(s.triangles.size(), mean_triangle_extent(s) + 2 * body.reach);
+  std::size_t vertices = 0;
+  for (const Body& b : bodies_) vertices += tissues_[b.tissue].settings->vertex_count();
+  candidates_.reserve(4 * vertices);
+}
+
 void TissueContactSolver::begin_step() {
   for (Body& body : bodies_) {
     const std::vector<Vec3>& x = tissues_[body.tissue].state->positions;

@@ -89,6 +89,12 @@ class TissueContactSolver {
   /// names a tissue or triangle that does not exist.
   std::size_t attach(const AttachmentSpec& spec);
   std::span<const AttachmentState> attachments() const { return attachments_; }
+  /// Tissue t's model changed (a cut or coagulation): `tissue` is its new model and state,
+  /// `triangle_origin` maps each new triangle to the old one. Re-sizes its proximity structures;
+  /// an attachment on a triangle that is gone lets go (torn at `time`, force 0), the others
+  /// follow their triangle's new index. Allocates.
+  void remodel(std::size_t t, const ContactTissue& tissue, std::span<const std::uint32_t> triangle_origin,
+               std::size_t old_triangle_count, Real time);
   std::span<const TissueContactPair> pairs() const { return pairs_; }
   /// Vertices the last solve moved (all pairs).
   std::uint32_t corrected() const { return corrected_; }

@@ -44,6 +44,11 @@ class PenaltyResponse : public TissueResponse {
 
   std::size_t held_vertices(std::size_t i) const override { return solvers_[i].grasp().held().size(); }
 
+  void remodel(const ResponseTissue& tissue, std::span<const std::uint32_t> vertex_origin) override {
+    tissue_ = tissue;
+    for (ResponseSolver& solver : solvers_) solver.remodel(vertex_origin);
+  }
+
  protected:
   ResponseTissue tissue_;
   std::vector<ResponseInstrument> instruments_;
@@ -85,6 +90,15 @@ class ProjectionResponse final : public PenaltyResponse {
     return projectors_[i].instrument_hits();
   }
 
+  void remodel(const ResponseTissue& tissue, std::span<const std::uint32_t> vertex_origin) override {
+    PenaltyResponse::remodel(tissue, vertex_origin);
+    for (std::size_t i = 0; i < projectors_.size(); ++i) {
+      projectors_[i].reset(tissue.settings->vertex_count(), tissue.settings->triangles,
+                           instruments_[i].instrument->world_positions().size());
+      projectors_[i].size_for(*instruments_[i].field);
+    }
+  }
+
  private:
   std::vector<ContactProjector> projectors_;  ///< per instrument
 };
@@ -120,6 +134,12 @@ class SolverContactResponse final : public TissueResponse {
   std::span<const std::uint8_t> instrument_hits(std::size_t i) const override { return contacts_.hits(i); }
   std::span<const SolverContactPoint> contact_points(std::size_t i) const override { return contacts_.points(i); }
   std::size_t held_vertices(std::size_t i) const override { return contacts_.held(i).size(); }
+
+  void remodel(const ResponseTissue& tissue, std::span<const std::uint32_t> vertex_origin) override {
+    contacts_.remodel(tissue.settings->rest_positions, tissue.settings->triangles, tissue.settings->closed,
+                      vertex_origin);
+    tissue.integrator->set_contacts(&contacts_);
+  }
 
  private:
   InstrumentContacts contacts_;

@@ -68,6 +68,11 @@ class TissueResponse {
   virtual std::span<const SolverContactPoint> contact_points(std::size_t /*instrument*/) const { return {}; }
   /// Tissue vertices instrument i's closed jaws hold now (0 when none). No allocation.
   virtual std::size_t held_vertices(std::size_t /*instrument*/) const { return 0; }
+  /// The tissue's model changed (a cut or coagulation: Simulation's remodelling): `tissue` is the
+  /// new one (its pieces may live elsewhere now), `vertex_origin` maps each new vertex to the old
+  /// one it copies. Re-sizes for it and keeps what the jaws hold (every copy of a held vertex
+  /// stays held). Allocates.
+  virtual void remodel(const ResponseTissue& tissue, std::span<const std::uint32_t> vertex_origin) = 0;
 };
 
 /// True when a tissue on `integrator` with these settings needs the instruments' signed distance

@@ -104,6 +104,26 @@ PenetrationMeter::PenetrationMeter(const World& world, bool enabled)
   query_scratch_ = MeshDistance::BatchScratch(most_triangles);
 }
 
+void PenetrationMeter::remodel(std::size_t t) {
+  if (!enabled_ || t >= tissues_) return;
+  const TissueBody& tissue = *world_.tissues[t];
+  distances_[t].reset();
+  start_distances_[t].reset();
+  sheets_[t] = SheetBoundary();
+  start_positions_[t].clear();
+  if (!tissue.settings.triangles.empty()) {
+    distances_[t] = std::make_unique<MeshDistance>(tissue.state.positions, tissue.settings.triangles);
+    start_distances_[t] = std::make_unique<MeshDistance>(tissue.state.positions, tissue.settings.triangles);
+    start_positions_[t] = tissue.state.positions;
+    if (!tissue.settings.closed) sheets_[t] = SheetBoundary(tissue.state.positions, tissue.settings.triangles);
+  }
+  for (std::size_t i = 0; i < world_.instruments.size(); ++i) {
+    std::fill(previous_distance_[pair(i, t)].begin(), previous_distance_[pair(i, t)].end(), kUnknown);
+    std::fill(through_[pair(i, t)].begin(), through_[pair(i, t)].end(), std::uint8_t{0});
+    std::fill(nearest_triangle_[pair(i, t)].begin(), nearest_triangle_[pair(i, t)].end(), MeshDistance::kNoTriangle);
+  }
+}
+
 void PenetrationMeter::capture_start() {
   for (std::size_t t = 0; t < tissues_; ++t)
     if (distances_[t]) {

@@ -52,6 +52,10 @@ class PenetrationMeter {
   PenetrationMeter(const World& world, bool enabled);
 
   bool enabled() const { return enabled_; }
+  /// Tissue t's model changed (a cut): rebuilds its distance structures and forgets what each
+  /// instrument vertex was last measured against it (its side is unknown until measured again, so
+  /// a surface that changed under a vertex is never counted as tunneling). Allocates.
+  void remodel(std::size_t t);
   /// Before the step's deformation: keeps the tissues' surfaces as the detection saw them.
   void capture_start();
   /// After the step: measures every instrument against every tissue. `contacts` are the step's

@@ -9,6 +9,7 @@
 #include <numeric>
 
 #include "trocar/core/timer.h"
+#include "trocar/electrosurgery/electrode.h"
 #include "trocar/tissue/forces.h"
 
 namespace trocar {
@@ -142,6 +143,35 @@ Simulation::Simulation(World world, const SimulationSettings& settings)
   tissue_contact_ = std::make_unique<TissueContactSolver>(std::move(contact_tissues), settings_.tissue_contacts);
   meter_ = std::make_unique<PenetrationMeter>(world_, settings_.measure_penetration);
   contacts_.reserve(1024);
+
+  // Electrosurgery: each electrode's vertices (from the tip end along the shaft, the tip → top
+  // vertex direction), each tissue's thermal state.
+  energy_on_.assign(ni, 0);
+  electrode_.resize(ni);
+  std::size_t most = 0;
+  for (std::size_t i = 0; i < ni; ++i) {
+    const InstrumentBody& body = world_.instruments[i];
+    if (!(body.electrode.power > 0)) continue;
+    const TriMesh& mesh = body.instrument.local_mesh();
+    if (mesh.positions.empty()) continue;
+    Vec3 shaft = mesh.positions[body.instrument.top_vertex()];
+    shaft = shaft.norm() > 0 ? Vec3(shaft.normalized()) : Vec3::UnitZ();
+    electrode_[i] = electrode_vertices(mesh.positions, shaft, body.electrode.active_length);
+    most = std::max(most, electrode_[i].size());
+  }
+  electrode_points_.reserve(most);
+  power_.resize(nt);
+  touched_.resize(nt);
+  coagulated_.resize(nt);
+  stiffened_.resize(nt);
+  burns_.resize(nt);
+  next_remodel_.assign(nt, 0);
+  for (std::size_t t = 0; t < nt; ++t) {
+    const TissueBody& tissue = *world_.tissues[t];
+    thermal_.emplace_back(tissue.thermal, tissue.settings.triangles, tissue.settings.rest_positions,
+                          tissue.settings.rest_areas);
+    size_burn(t);
+  }
 }
 
 void Simulation::command_instrument(std::size_t i, const Pose& pose, Real jaw) {
@@ -242,6 +272,10 @@ const StepMetrics& Simulation::step(Real dt) {
   stage.restart();
   measure();
   metrics_.timings.metrics = copy_us + stage.microseconds();
+
+  stage.restart();
+  burn(dt);
+  metrics_.timings.electrosurgery = stage.microseconds();
 
   metrics_.time = time_;
   metrics_.step_index = ++steps_;

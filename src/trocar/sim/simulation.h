@@ -10,6 +10,7 @@
 #include "trocar/collision/broad_phase.h"
 #include "trocar/collision/detector.h"
 #include "trocar/collision/ohc_broad_phase.h"
+#include "trocar/electrosurgery/thermal.h"
 #include "trocar/response/instrument_field.h"
 #include "trocar/response/response_solver.h"
 #include "trocar/response/settings.h"
@@ -43,6 +44,7 @@ struct StageTimings {
   double deformation = 0;   ///< integrators, corrections, grasps, and the sdf projection
   double projection = 0;    ///< of deformation: the responses' work after the integrators beyond grasps (the sdf projection)
   double metrics = 0;       ///< penetration, tunneling, energies (and the start-surface copy)
+  double electrosurgery = 0;  ///< electrodes' heat, thermal damage, and remodelling after cuts
   double step = 0;          ///< the whole step
 };
 
@@ -77,7 +79,20 @@ struct StepMetrics {
   std::uint32_t substeps = 0;        ///< xpbd tissues: substeps (one constraint pass each)
   /// Largest constraint error a tissue's solver left (StepStats::constraint_error).
   Real constraint_error = 0;
+  /// Electrosurgery (docs/electrosurgery.md): energy the electrodes put into tissue this step (J),
+  /// triangles cut open and tissues remodelled (a cut or newly coagulated springs) this step.
+  Real energy = 0;
+  std::uint32_t triangles_cut = 0;
+  std::uint32_t remodelled = 0;
   StageTimings timings;              ///< µs per stage
+};
+
+/// What electrosurgery did to one tissue so far.
+struct BurnTally {
+  Real energy = 0;              ///< J delivered by electrodes
+  Real cut_area = 0;            ///< m² (rest) of triangles cut open and removed
+  std::uint32_t cut_triangles = 0;
+  Real coagulated_area = 0;     ///< m² (rest) of triangles coagulated (Ω ≥ 1), cut ones included
 };
 
 /// Runs a World. Deterministic: the same world and step sizes give bit-identical states on the
@@ -110,6 +125,15 @@ class Simulation {
   void place_instrument(std::size_t i, const Pose& pose, Real jaw);
   /// Returns instrument i to its keyframes.
   void release_instrument(std::size_t i);
+  /// The pedal of instrument i's electrode (docs/electrosurgery.md): while on, an instrument with
+  /// an electrode (InstrumentBody::electrode.power > 0) heats the tissue it touches, which
+  /// coagulates and, where its water boils off, is cut open. No allocation.
+  void set_energy(std::size_t i, bool on) { energy_on_[i] = on ? 1 : 0; }
+  bool energy_on(std::size_t i) const { return energy_on_[i] != 0; }
+  /// Tissue t's heat and thermal damage per triangle.
+  const ThermalField& thermal(std::size_t t) const { return thermal_[t]; }
+  /// What electrosurgery did to tissue t so far.
+  BurnTally burn_tally(std::size_t t) const;
   /// Instrument exchange through a port (scene "port"), as a surgeon does: the instrument of
   /// i's port now in the body is withdrawn (its jaws open and let go; one step later it waits
   /// outside the body) and the next instrument of that port, in scene order, is inserted at the
@@ -161,6 +185,12 @@ class Simulation {
   void respond();
   void deform(Real dt);
   void measure();
+  /// Electrodes → heat per triangle → thermal damage (electrosurgery.cpp).
+  void burn(Real dt);
+  /// Newly coagulated springs stiffened, cut triangles removed: tissue t rebuilt (remodel.cpp).
+  void remodel(std::size_t t);
+  /// The electrosurgery bookkeeping of tissue t sized for its model (construction, remodel).
+  void size_burn(std::size_t t);
 
   World world_;
   SimulationSettings settings_;
@@ -195,6 +225,17 @@ class Simulation {
   /// Per tissue: 1 while it waits outside (enters_at still ahead).
   std::vector<std::uint8_t> tissue_waiting_;
   void admit_tissues();
+  // Electrosurgery (docs/electrosurgery.md).
+  std::vector<std::uint8_t> energy_on_;                  ///< per instrument: pedal down
+  std::vector<std::vector<std::uint32_t>> electrode_;    ///< per instrument: its electrode's vertices
+  std::vector<Vec3> electrode_points_;                   ///< scratch: one electrode's vertices in the world
+  std::vector<ThermalField> thermal_;                    ///< per tissue
+  std::vector<std::vector<Real>> power_;                 ///< per tissue, per triangle: W this step
+  std::vector<std::vector<std::uint8_t>> touched_;       ///< per tissue, per triangle: scratch
+  std::vector<std::vector<std::uint8_t>> stiffened_;     ///< per tissue, per spring: coagulation applied
+  std::vector<std::vector<std::uint8_t>> coagulated_;    ///< per tissue, per triangle: counted as coagulated
+  std::vector<BurnTally> burns_;                         ///< per tissue
+  std::vector<Real> next_remodel_;                       ///< per tissue: earliest time of its next remodel (s)
   StepMetrics metrics_;
   Real time_ = 0;
   Real dt_ = 0;  ///< this step's dt (s)

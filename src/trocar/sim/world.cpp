@@ -17,6 +17,16 @@ TissueBody::TissueBody(std::string body_name, const TriMesh& world_mesh, const M
   loads.reset(settings.vertex_count(), 8192);
 }
 
+TissueBody::TissueBody(std::string body_name, MassSpringSettings model, IntegratorKind kind, ImplicitOptions implicit,
+                       XpbdOptions xpbd)
+    : name(std::move(body_name)),
+      settings(std::move(model)),
+      state(MassSpringState::at_rest(settings)),
+      integrator(settings, kind, implicit, xpbd),
+      energy(settings) {
+  loads.reset(settings.vertex_count(), 8192);
+}
+
 TissueBody& World::add_tissue(std::string name, const TriMesh& world_mesh, const MassSpringMaterial& material,
                               const FixedSelection& fixed, const Vec3& gravity, IntegratorKind kind) {
   tissues.push_back(std::make_unique<TissueBody>(std::move(name), world_mesh, material, fixed, gravity, kind));

@@ -9,6 +9,8 @@
 #include "trocar/instrument/instrument.h"
 #include "trocar/mesh/tri_mesh.h"
 #include "trocar/core/motion.h"
+#include "trocar/electrosurgery/electrode.h"
+#include "trocar/electrosurgery/thermal.h"
 #include "trocar/tissue/energy.h"
 #include "trocar/tissue/integrator.h"
 #include "trocar/tissue/material.h"
@@ -36,10 +38,25 @@ struct TissueBody {
   /// outside, far from everything and not stepped; then it is placed at its rest shape, at rest
   /// (the prosthetic mesh, brought in through a port after the sac is reduced). 0: from the start.
   Real enters_at = 0;
+  /// How it heats and burns under an electrode (scene key "thermal"; docs/electrosurgery.md).
+  ThermalProperties thermal;
+  /// Coagulated tissue is stiffer: a coagulated triangle's edge springs take this factor on their
+  /// stiffness and keep the length they had then as their rest length (scene key
+  /// "coagulation_stiffening"; 1: unchanged). Elastography of thermal lesions finds them several
+  /// times stiffer than the tissue around them (Wu et al., Magn Reson Med 45:80, 2001).
+  Real coagulation_stiffening = 3;
+  /// Counts the changes of the model during a simulation (a cut, coagulation): whatever keeps
+  /// something per vertex or triangle of this tissue (a renderer's buffers) rebuilds it when
+  /// this moved.
+  std::uint32_t model_version = 0;
 
   /// Builds the model from a mesh already placed in the world (metres).
   TissueBody(std::string body_name, const TriMesh& world_mesh, const MassSpringMaterial& material,
              const FixedSelection& fixed, const Vec3& gravity, IntegratorKind kind);
+  /// Takes a model already made (the tissue after a cut, Simulation's remodelling), at rest; the
+  /// integrator gets these options.
+  TissueBody(std::string body_name, MassSpringSettings model, IntegratorKind kind, ImplicitOptions implicit,
+             XpbdOptions xpbd);
   TissueBody(const TissueBody&) = delete;
   TissueBody& operator=(const TissueBody&) = delete;
 };
@@ -58,6 +75,9 @@ struct InstrumentBody {
   /// What it is: the scene generator's name ("grasper", "tacker", "hook-probe", ...) or "custom"
   /// for a mesh from a file. The procedure fires only a "tacker".
   std::string tool = "custom";
+  /// Its electrode (scene key "electrode"; power 0: none): with the pedal down
+  /// (Simulation::set_energy) it heats the tissue it touches.
+  ElectrodeSpec electrode;
 };
 
 /// Static geometry (role kRigid): bones, a table, ports. Only detected, never moved.

@@ -61,14 +61,18 @@ class MassSpringIntegrator {
   StepStats step(MassSpringState& state, const TissueLoads& loads, Real dt);
 
   IntegratorKind kind() const { return kind_; }
+  /// The implicit solve's options (what the constructor took).
+  const ImplicitOptions& implicit_options() const { return options_; }
   /// xpbd: the contact handler every step solves inside its substeps (null: none). Not owned.
   void set_contacts(XpbdContacts* contacts) { contacts_ = contacts; }
   /// The settings' home anchors moved (yield_home()): copies them again where a pass keeps its own.
   void home_moved();
   /// xpbd: the solver (null for the other kinds).
   XpbdSolver* xpbd() { return xpbd_.get(); }
+  const XpbdSolver* xpbd() const { return xpbd_.get(); }
   const MassSpringSettings& settings() const { return settings_; }
   ForceTerms& terms() { return terms_; }  ///< which force terms are on (all by default)
+  const ForceTerms& terms() const { return terms_; }
   /// Whether the AVX2+FMA passes run (default: when the CPU has them). Off forces the portable
   /// scalar passes, e.g. to compare the two; on is ignored where the CPU lacks AVX2/FMA.
   /// (Turning it off builds the pass-by-pass arrays if they were not: not during a step.)

@@ -1,0 +1,63 @@
+// The electrodes' heat and the tissues' thermal damage in the step (docs/electrosurgery.md).
+#include <algorithm>
+
+#include "trocar/core/timer.h"
+#include "trocar/electrosurgery/electrode.h"
+#include "trocar/sim/simulation.h"
+
+namespace trocar {
+
+void Simulation::size_burn(std::size_t t) {
+  const TissueBody& tissue = *world_.tissues[t];
+  const std::size_t n = tissue.settings.triangles.size();
+  power_[t].assign(n, 0.0);
+  touched_[t].assign(n, 0);
+  coagulated_[t].resize(n, 0);
+  stiffened_[t].resize(tissue.settings.springs.size(), 0);
+}
+
+BurnTally Simulation::burn_tally(std::size_t t) const {
+  BurnTally tally = burns_[t];
+  const MassSpringSettings& s = world_.tissues[t]->settings;
+  const ThermalField& field = thermal_[t];
+  tally.energy = field.delivered();
+  for (std::size_t k = 0; k < field.size(); ++k)
+    if (field.coagulated(k)) tally.coagulated_area += s.rest_areas[k];
+  return tally;
+}
+
+void Simulation::burn(Real dt) {
+  const std::size_t nt = world_.tissues.size();
+  bool any = false;
+  for (std::size_t i = 0; i < world_.instruments.size(); ++i) {
+    const InstrumentBody& body = world_.instruments[i];
+    if (!energy_on_[i] || !(body.electrode.power > 0) || phase_[i] != PortPhase::kInside || electrode_[i].empty())
+      continue;
+    const std::span<const Vec3> world = body.instrument.world_positions();
+    electrode_points_.clear();
+    for (const std::uint32_t v : electrode_[i]) electrode_points_.push_back(world[v]);
+    // The touched area over every tissue first: the power is shared over all of it.
+    Real area = 0;
+    for (std::size_t t = 0; t < nt; ++t) {
+      if (tissue_waiting_[t]) continue;
+      const TissueBody& tissue = *world_.tissues[t];
+      area += touch_triangles(electrode_points_, tissue.state.positions, tissue.settings.triangles,
+                              tissue.settings.rest_areas, body.electrode.reach, touched_[t]);
+    }
+    if (!(area > 0)) continue;
+    any = true;
+    for (std::size_t t = 0; t < nt; ++t)
+      if (!tissue_waiting_[t])
+        share_power(body.electrode.power, area, touched_[t], world_.tissues[t]->settings.rest_areas, power_[t]);
+    metrics_.energy += body.electrode.power * dt;
+  }
+  for (std::size_t t = 0; t < nt; ++t) {
+    if (tissue_waiting_[t]) continue;
+    if (any || thermal_[t].hot()) thermal_[t].step(any ? std::span<const Real>(power_[t]) : std::span<const Real>(), dt);
+    if (any) std::fill(power_[t].begin(), power_[t].end(), 0.0);
+  }
+  for (std::size_t t = 0; t < nt; ++t)
+    if (thermal_[t].hot() && time_ + 1e-12 >= next_remodel_[t]) remodel(t);
+}
+
+}  // namespace trocar
