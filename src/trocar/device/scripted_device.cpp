@@ -16,7 +16,7 @@ PlaybackDevice::Played ScriptedDevice::play(double now_s) {
       (motion_.sample(now_s + h).pose.translation - motion_.sample(now_s - h).pose.translation) / (2 * h);
   std::uint32_t buttons = 0;
   for (const ButtonPress& p : presses_)  // a few per scene: a scan allocates nothing
-    if (now_s >= p.t && now_s < p.t + kPressTime) buttons |= p.buttons;
+    if (now_s >= p.t && now_s < (p.until >= 0 ? p.until : p.t + kPressTime)) buttons |= p.buttons;
   return {s.pose, s.jaw, velocity, buttons};
 }
 

@@ -15,6 +15,7 @@ namespace trocar {
 struct ButtonPress {
   double t = 0;
   std::uint32_t buttons = 0;
+  double until = -1;  ///< s: held down until then (the electrode's pedal); < 0: for kPressTime
 };
 
 /// Samples a KeyframeMotion at read()'s time; velocity by central difference over 1 ms.

@@ -9,6 +9,8 @@ namespace trocar {
 std::uint32_t action_from_name(const std::string& name) {
   if (name == "fire") return kActionFire;
   if (name == "exchange") return kActionExchange;
+  if (name == "energy_on") return kActionEnergyOn;
+  if (name == "energy_off") return kActionEnergyOff;
   return 0;
 }
 
@@ -20,7 +22,14 @@ ActionScript::ActionScript(std::vector<ScriptedAction> actions) : actions_(std::
 void apply_actions(Simulation& sim, std::size_t instrument, std::uint32_t bits, ActionHandler* handler) {
   if (instrument >= sim.world().instruments.size()) return;
   if ((bits & kActionFire) && handler != nullptr) handler->fire(sim, sim.active_in_port(instrument));
-  if (bits & kActionExchange) sim.exchange(instrument);
+  // The pedal drives the electrode of the port's instrument in the body; an exchange takes it out
+  // with the pedal up.
+  if (bits & kActionEnergyOn) sim.set_energy(sim.active_in_port(instrument), true);
+  if (bits & kActionEnergyOff) sim.set_energy(sim.active_in_port(instrument), false);
+  if (bits & kActionExchange) {
+    sim.set_energy(sim.active_in_port(instrument), false);
+    sim.exchange(instrument);
+  }
 }
 
 }  // namespace trocar

@@ -1,5 +1,6 @@
 #pragma once
-/// What a trainee does besides moving: fire the tacker, exchange the instrument in a port. From a
+/// What a trainee does besides moving: fire the tacker, exchange the instrument in a port, press
+/// and release the electrode's pedal. From a
 /// device's buttons, the viewer's keys, a scene's scripted "events", or a recording; one bit set
 /// each, applied between steps (docs/procedure.md, "Actions").
 #include <cstddef>
@@ -13,11 +14,26 @@ namespace trocar {
 
 /// Action bits (a device's buttons map onto them: docs/devices.md).
 enum ActionBit : std::uint32_t {
-  kActionFire = 1u << 0,      ///< fire the tacker in this instrument's port
-  kActionExchange = 1u << 1,  ///< exchange the instrument in this instrument's port
+  kActionFire = 1u << 0,        ///< fire the tacker in this instrument's port
+  kActionExchange = 1u << 1,    ///< exchange the instrument in this instrument's port
+  /// The electrode's pedal pressed (docs/electrosurgery.md). As a device's button (button 3) the
+  /// bit is the pedal's level, held while it is down; recorded and scripted it is the press.
+  kActionEnergyOn = 1u << 2,
+  kActionEnergyOff = 1u << 3,   ///< the pedal released (recorded and scripted; no button)
 };
 
-/// "fire" / "exchange" → its bit; 0 for any other name.
+/// The bits a device's buttons carry as levels (button i+1 = bit i): fire, exchange, the pedal.
+inline constexpr std::uint32_t kButtonActions = kActionFire | kActionExchange | kActionEnergyOn;
+
+/// What a step applies for a device whose button levels went from `before` to `now`: the presses
+/// of fire, exchange and the pedal, and the pedal's release as kActionEnergyOff.
+inline std::uint32_t button_actions(std::uint32_t before, std::uint32_t now) {
+  const std::uint32_t pressed = now & ~before & kButtonActions;
+  const bool released = (before & kActionEnergyOn) != 0 && (now & kActionEnergyOn) == 0;
+  return pressed | (released ? kActionEnergyOff : 0u);
+}
+
+/// "fire" / "exchange" / "energy_on" / "energy_off" → its bit; 0 for any other name.
 std::uint32_t action_from_name(const std::string& name);
 
 /// One scripted action (scene "events": {"t", "action", "instrument"}).

@@ -209,6 +209,7 @@ ViewerKey glfw_key(int key) {
     case GLFW_KEY_F9: return ViewerKey::kRecord;
     case GLFW_KEY_T: return ViewerKey::kFire;      // a tack
     case GLFW_KEY_X: return ViewerKey::kExchange;  // the instrument in the port
+    case GLFW_KEY_B: return ViewerKey::kEnergy;    // held: the electrode's pedal (burn)
     default: return ViewerKey::kOther;
   }
 }

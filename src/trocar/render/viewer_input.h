@@ -12,7 +12,7 @@ namespace trocar {
 
 /// Mouse buttons and the keys the viewer uses (values independent of GLFW).
 enum class ViewerKey { kInsert, kRetract, kYawLeft, kYawRight, kPitchUp, kPitchDown, kRollLeft, kRollRight, kJaw,
-                       kToggleCamera, kPause, kStep, kReset, kRecord, kFire, kExchange, kOther };
+                       kToggleCamera, kPause, kStep, kReset, kRecord, kFire, kExchange, kEnergy, kOther };
 
 /// Event-to-motion mapping.
 class ViewerInput {

@@ -54,7 +54,7 @@ const InstrumentCommand& HapticChannel::sense(double now_s) {
     device_velocity_ = mapping_.device_to_world.apply_vector(input_.velocity) * mapping_.scale;
     command_.pose = device_world_;
     command_.jaw = input_.jaw;
-    command_.actions = (input_.buttons >> 1) & (kActionFire | kActionExchange);
+    command_.actions = (input_.buttons >> 1) & kButtonActions;
     command_.active = true;
   } else {
     // Dropped or silent: the instrument holds its last pose (command_ unchanged).

@@ -31,7 +31,7 @@ const ContactModelSet& PhysicsStepper::step(const InstrumentCommandSet& commands
   record.instruments = static_cast<std::uint32_t>(instruments_);
   for (std::size_t i = 0; i < instruments_; ++i) {
     const InstrumentCommand& c = commands.instruments[i];
-    record.instrument[i].actions = pressed_bits(held_actions_[i], c.actions);
+    record.instrument[i].actions = button_actions(held_actions_[i], c.actions);
     held_actions_[i] = c.actions;
   }
   for (std::size_t i = 0; i < instruments_; ++i) {

@@ -34,7 +34,7 @@ namespace {
 std::unique_ptr<Device> make_device(const DeviceSpec& spec, const InstrumentBody& body, std::size_t index) {
   if (!spec.given || spec.driver == "scripted") {
     std::vector<ButtonPress> presses;
-    for (const DeviceSpec::Press& p : spec.presses) presses.push_back({p.t, p.buttons});
+    for (const DeviceSpec::Press& p : spec.presses) presses.push_back({p.t, p.buttons, p.until});
     return std::make_unique<ScriptedDevice>(body.motion, spec.max_force, spec.damping, std::move(presses));
   }
   if (spec.driver == "mouse") return std::make_unique<PortDevice>(port_kinematics(spec, body));

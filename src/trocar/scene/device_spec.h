@@ -35,6 +35,7 @@ struct DeviceSpec {
   struct Press {
     double t = 0;
     std::uint32_t buttons = 0;
+    double until = -1;  ///< s: held until then (the pedal); < 0: a short press
   };
   std::vector<Press> presses;
   bool has_pivot = false;      ///< mouse: "pivot" given

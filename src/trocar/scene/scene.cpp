@@ -10,6 +10,7 @@
 #include "trocar/mesh/renumber.h"
 #include "trocar/mesh/repair.h"
 #include "trocar/scene/action_keys.h"
+#include "trocar/scene/electrosurgery_keys.h"
 #include "trocar/scene/anatomy_scene.h"
 #include "trocar/scene/contact_keys.h"
 #include "trocar/scene/json_reader.h"
@@ -112,7 +113,8 @@ IntegratorKind read_integrator(const JsonReader& obj) {
 
 void read_tissue(const JsonReader& t, std::size_t index, Scene& scene, const std::filesystem::path& dir) {
   t.expect_keys({"name", "mesh", "scale", "translate", "rotate_deg", "repair", "material", "fixed", "integrator",
-                 "substeps", "texture", "appearance", "roll", "lay_on", "graspable", "enters_at"});
+                 "substeps", "texture", "appearance", "roll", "lay_on", "graspable", "enters_at", "thermal",
+                 "coagulation_stiffening"});
   const std::string name = name_or(t, "tissue", index);
   TriMesh file_mesh = placed_mesh(t, dir);
   if (t.has("lay_on")) read_tissue_lay_on(t.at("lay_on"), scene.world, file_mesh.positions);  // contact_keys.h
@@ -140,6 +142,9 @@ void read_tissue(const JsonReader& t, std::size_t index, Scene& scene, const std
   if (t.has("roll")) read_tissue_roll(t.at("roll"), *scene.world.tissues.back());  // contact_keys.h
   if (t.has("graspable")) scene.world.tissues.back()->graspable = t.at("graspable").boolean();
   if (t.has("enters_at")) scene.world.tissues.back()->enters_at = t.at("enters_at").number_at_least(0);
+  if (t.has("thermal")) scene.world.tissues.back()->thermal = read_thermal(t.at("thermal"));  // electrosurgery_keys.h
+  if (t.has("coagulation_stiffening"))
+    scene.world.tissues.back()->coagulation_stiffening = t.at("coagulation_stiffening").number_above(0);
   std::filesystem::path texture;
   if (t.has("texture")) {
     const JsonReader tex = t.at("texture");
@@ -219,7 +224,7 @@ DeviceSpec read_device(const JsonReader& d, const std::filesystem::path& dir) {
 
 void read_instrument(const JsonReader& r, std::size_t index, Scene& scene, const std::filesystem::path& dir) {
   r.expect_keys({"name", "mesh", "scale", "translate", "rotate_deg", "repair", "top_vertex", "shaft_direction",
-                 "jaw_triangles", "motion", "device", "port"});
+                 "jaw_triangles", "motion", "device", "port", "electrode"});
   const std::string name = name_or(r, "instrument", index);
   TriMesh mesh = placed_mesh(r, dir);
   const std::size_t nv = mesh.vertex_count();
@@ -247,6 +252,7 @@ void read_instrument(const JsonReader& r, std::size_t index, Scene& scene, const
   if (r.has("port")) body.port = r.at("port").string();
   const JsonReader source = r.at("mesh");
   if (source.is_object() && source.has("generate")) body.tool = source.at("generate").string();
+  if (r.has("electrode")) body.electrode = read_electrode(r.at("electrode"));  // electrosurgery_keys.h
   scene.devices.push_back(std::move(device));
 }
 
@@ -401,8 +407,19 @@ Scene parse_scene(std::string_view text, const std::string& file, const std::fil
   if (root.has("tissue_contacts")) read_tissue_contacts(root.at("tissue_contacts"), scene);  // contact_keys.h
   if (root.has("camera")) read_cameras(root.at("camera"), scene);
   if (root.has("events")) scene.actions = read_actions(root.at("events"), scene.world);
-  for (const ScriptedAction& a : scene.actions)  // the real-time runtime presses them as buttons
-    if (a.instrument < scene.devices.size()) scene.devices[a.instrument].presses.push_back({a.t, a.action << 1});
+  // The real-time runtime presses them as buttons: a short press each, but the electrode's pedal,
+  // held from energy_on to the instrument's next energy_off (or the end).
+  for (std::size_t k = 0; k < scene.actions.size(); ++k) {
+    const ScriptedAction& a = scene.actions[k];
+    if (a.instrument >= scene.devices.size() || a.action == kActionEnergyOff) continue;
+    double until = -1;
+    if (a.action == kActionEnergyOn) {
+      until = std::numeric_limits<double>::infinity();
+      for (const ScriptedAction& off : scene.actions)
+        if (off.instrument == a.instrument && off.action == kActionEnergyOff && off.t >= a.t) until = std::min(until, off.t);
+    }
+    scene.devices[a.instrument].presses.push_back({a.t, a.action << 1, until});
+  }
   read_task_keys(root, scene);  // last: the task's names are checked against everything above
   return scene;
 }

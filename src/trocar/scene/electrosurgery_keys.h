@@ -1,0 +1,17 @@
+#pragma once
+/// Scene keys of electrosurgery (docs/scene.md, "Electrosurgery"): an instrument's "electrode", a
+/// tissue's "thermal" properties and "coagulation_stiffening".
+#include "trocar/scene/json_reader.h"
+#include "trocar/sim/world.h"
+
+namespace trocar {
+
+/// "electrode": true (the defaults, 40 W) or {"power": W, "active_length": m, "reach": m}.
+ElectrodeSpec read_electrode(const JsonReader& r);
+
+/// "thermal": {"density", "specific_heat", "conductivity", "heated_depth", "water_fraction",
+/// "perfusion", "body_temperature" (K), "arrhenius_rate", "activation_energy"}, each optional
+/// over the soft-tissue defaults (electrosurgery/thermal.h).
+ThermalProperties read_thermal(const JsonReader& r);
+
+}  // namespace trocar
