@@ -103,6 +103,18 @@ void ThermalField::step(std::span<const Real> power, Real dt) {
   hot_ = hottest > p.body_temperature + 0.01;
 }
 
+void ThermalField::add_heat(std::size_t t, Real joules) {
+  if (t >= temperature_.size() || !(joules > 0) || !(capacity_[t] > 0)) return;
+  delivered_ += joules;
+  Real t1 = temperature_[t] + joules / capacity_[t];
+  if (t1 > properties_.boiling_temperature) {
+    if (vapour_energy_[t] > 0) vaporised_[t] += (t1 - properties_.boiling_temperature) * capacity_[t] / vapour_energy_[t];
+    t1 = properties_.boiling_temperature;
+  }
+  temperature_[t] = t1;
+  hot_ = true;
+}
+
 void ThermalField::remap(std::span<const std::uint32_t> origin, std::span<const Triangle> triangles,
                          std::span<const Vec3> rest_positions, std::span<const Real> rest_areas) {
   const std::size_t n = origin.size();

@@ -16,6 +16,7 @@
 ///
 /// (Ω = 1: 63 % of the cells dead, the usual coagulation threshold; Pearce, Int J Hyperthermia
 /// 29:262, 2013), integrated per step by Simpson's rule over the step's linear T(t).
+#include <algorithm>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -60,6 +61,12 @@ class ThermalField {
   /// Advances by dt with `power` per triangle (W, one per triangle; empty: none). No allocation;
   /// nothing to do (and no cost beyond reading `power`) while no triangle is hot.
   void step(std::span<const Real> power, Real dt);
+
+  /// Puts `joules` of heat into triangle t at once (a dose without an electrode: scripted burns,
+  /// tests): it warms to the boiling point, and the rest boils its water off. Counted as delivered.
+  void add_heat(std::size_t t, Real joules);
+  /// Marks triangle t cut (its water gone, φ = 1) without heat: a cut by other means.
+  void vaporise(std::size_t t) { vaporised_[t] = std::max<Real>(vaporised_[t], 1); }
 
   /// Keeps the state of the triangles that remain after a topology change: new triangle k takes
   /// old triangle origin[k]'s state (and the conduction is rebuilt on the new triangles).

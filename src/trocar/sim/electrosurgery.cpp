@@ -26,6 +26,21 @@ BurnTally Simulation::burn_tally(std::size_t t) const {
   return tally;
 }
 
+void Simulation::cut(std::size_t t, std::span<const std::uint32_t> triangles) {
+  if (t >= thermal_.size()) return;
+  bool any = false;
+  for (const std::uint32_t k : triangles)
+    if (k < thermal_[t].size()) {
+      thermal_[t].vaporise(k);
+      any = true;
+    }
+  if (any) remodel(t);
+}
+
+void Simulation::heat(std::size_t t, std::uint32_t k, Real joules) {
+  if (t < thermal_.size()) thermal_[t].add_heat(k, joules);
+}
+
 void Simulation::burn(Real dt) {
   const std::size_t nt = world_.tissues.size();
   bool any = false;

@@ -130,6 +130,13 @@ class Simulation {
   /// coagulates and, where its water boils off, is cut open. No allocation.
   void set_energy(std::size_t i, bool on) { energy_on_[i] = on ? 1 : 0; }
   bool energy_on(std::size_t i) const { return energy_on_[i] != 0; }
+  /// Opens tissue t's triangles now (scissors, a scripted cut, a test): they are removed as a cut
+  /// by the electrode removes them (the tissue remodelled at once). Indices out of range are
+  /// ignored. Allocates.
+  void cut(std::size_t t, std::span<const std::uint32_t> triangles);
+  /// Puts `joules` of heat into tissue t's triangle k at once (ThermalField::add_heat): what an
+  /// electrode would put there, without one. Out-of-range indices are ignored.
+  void heat(std::size_t t, std::uint32_t k, Real joules);
   /// Tissue t's heat and thermal damage per triangle.
   const ThermalField& thermal(std::size_t t) const { return thermal_[t]; }
   /// What electrosurgery did to tissue t so far.
@@ -179,6 +186,9 @@ class Simulation {
   const TissueContactSolver& tissue_contact() const { return *tissue_contact_; }
   /// The collision detector (its timings and, for OHC, the last detection's counts).
   const CollisionDetector& detector() const { return detector_; }
+  /// The same, to run a detection of one's own through its caches (a test comparing it with a
+  /// fresh detector after cuts).
+  CollisionDetector& detector() { return detector_; }
 
  private:
   void detect();
