@@ -61,15 +61,38 @@ void Simulation::burn(Real dt) {
     }
     if (!(area > 0)) continue;
     any = true;
-    for (std::size_t t = 0; t < nt; ++t)
-      if (!tissue_waiting_[t])
-        share_power(body.electrode.power, area, touched_[t], world_.tissues[t]->settings.rest_areas, power_[t]);
+    // The shares, and where they go (the touched surface's centre, area-weighted: smoke's source).
+    Vec3 centre = Vec3::Zero();
+    for (std::size_t t = 0; t < nt; ++t) {
+      if (tissue_waiting_[t]) continue;
+      const TissueBody& tissue = *world_.tissues[t];
+      share_power(body.electrode.power, area, touched_[t], tissue.settings.rest_areas, power_[t]);
+      for (std::uint32_t k = 0; k < touched_[t].size(); ++k) {
+        if (!touched_[t][k]) continue;
+        const Real share = body.electrode.power * tissue.settings.rest_areas[k] / area;
+        const Triangle& tri = tissue.settings.triangles[k];
+        centre += tissue.settings.rest_areas[k] *
+                  (tissue.state.positions[tri[0]] + tissue.state.positions[tri[1]] + tissue.state.positions[tri[2]]) / 3;
+        if (touches_[i].size() < touches_[i].capacity())
+          touches_[i].push_back({static_cast<std::uint32_t>(t), k, share});
+      }
+    }
+    vapour_[i].at = centre / area;
     metrics_.energy += body.electrode.power * dt;
   }
   for (std::size_t t = 0; t < nt; ++t) {
     if (tissue_waiting_[t]) continue;
     if (any || thermal_[t].hot()) thermal_[t].step(any ? std::span<const Real>(power_[t]) : std::span<const Real>(), dt);
     if (any) std::fill(power_[t].begin(), power_[t].end(), 0.0);
+  }
+  // At the boiling point the heat boils water off: that share of each electrode's power is vapour.
+  for (std::size_t i = 0; i < touches_.size(); ++i) {
+    for (const Touch& touch : touches_[i]) {
+      const ThermalField& field = thermal_[touch.tissue];
+      if (field.temperature()[touch.triangle] >= field.properties().boiling_temperature)
+        vapour_[i].energy += touch.watts * dt;
+    }
+    touches_[i].clear();
   }
   for (std::size_t t = 0; t < nt; ++t)
     if (thermal_[t].hot() && time_ + 1e-12 >= next_remodel_[t]) remodel(t);

@@ -116,7 +116,9 @@ void Simulation::remodel(std::size_t t) {
   body->coagulation_stiffening = old.coagulation_stiffening;
   body->model_version = old.model_version + 1;
 
-  // Everything that keeps something of this tissue.
+  // Everything that keeps something of this tissue. The step's contacts name the old triangles;
+  // they are used up (the next step detects again).
+  contacts_.clear();
   std::vector<std::uint8_t> coagulated(triangle_origin.size());
   for (std::size_t k = 0; k < triangle_origin.size(); ++k) coagulated[k] = coagulated_[t][triangle_origin[k]];
   thermal_[t].remap(triangle_origin, body->settings.triangles, body->settings.rest_positions, body->settings.rest_areas);

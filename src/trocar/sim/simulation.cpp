@@ -160,6 +160,13 @@ Simulation::Simulation(World world, const SimulationSettings& settings)
     most = std::max(most, electrode_[i].size());
   }
   electrode_points_.reserve(most);
+  touches_.resize(ni);
+  for (auto& list : touches_) list.reserve(1024);
+  vapour_.resize(ni);
+  Vec3 up = Vec3::UnitZ();
+  for (std::size_t t = 0; t < nt; ++t)
+    if (world_.tissues[t]->settings.gravity.norm() > 0) up = -world_.tissues[t]->settings.gravity.normalized();
+  for (VapourSource& v : vapour_) v.up = up;
   power_.resize(nt);
   touched_.resize(nt);
   coagulated_.resize(nt);

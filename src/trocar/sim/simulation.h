@@ -87,6 +87,14 @@ struct StepMetrics {
   StageTimings timings;              ///< µs per stage
 };
 
+/// Where an electrode boils tissue water off (the source of its smoke): the touched surface's
+/// centre and the vaporisation energy so far (a renderer emits smoke for what it adds).
+struct VapourSource {
+  Vec3 at = Vec3::Zero();   ///< m: centre of the surface it touched last
+  Vec3 up = Vec3::UnitZ();  ///< unit, against gravity
+  Real energy = 0;          ///< J put into boiling tissue water by this electrode so far
+};
+
 /// What electrosurgery did to one tissue so far.
 struct BurnTally {
   Real energy = 0;              ///< J delivered by electrodes
@@ -141,6 +149,8 @@ class Simulation {
   const ThermalField& thermal(std::size_t t) const { return thermal_[t]; }
   /// What electrosurgery did to tissue t so far.
   BurnTally burn_tally(std::size_t t) const;
+  /// Per instrument: where its electrode boils tissue (smoke's source; zero energy if none).
+  std::span<const VapourSource> vapour() const { return vapour_; }
   /// Instrument exchange through a port (scene "port"), as a surgeon does: the instrument of
   /// i's port now in the body is withdrawn (its jaws open and let go; one step later it waits
   /// outside the body) and the next instrument of that port, in scene order, is inserted at the
@@ -238,6 +248,13 @@ class Simulation {
   // Electrosurgery (docs/electrosurgery.md).
   std::vector<std::uint8_t> energy_on_;                  ///< per instrument: pedal down
   std::vector<std::vector<std::uint32_t>> electrode_;    ///< per instrument: its electrode's vertices
+  /// What an electrode touched this step: tissue, triangle, its share of the power (W).
+  struct Touch {
+    std::uint32_t tissue, triangle;
+    Real watts;
+  };
+  std::vector<std::vector<Touch>> touches_;              ///< per instrument (capacity kept)
+  std::vector<VapourSource> vapour_;                     ///< per instrument
   std::vector<Vec3> electrode_points_;                   ///< scratch: one electrode's vertices in the world
   std::vector<ThermalField> thermal_;                    ///< per tissue
   std::vector<std::vector<Real>> power_;                 ///< per tissue, per triangle: W this step

@@ -1,6 +1,31 @@
 #include "trocar/sim/view_snapshot.h"
 
+#include <algorithm>
+#include <cmath>
+
 namespace trocar {
+namespace {
+
+/// Tissue t's burn per vertex (ViewSnapshot::tissue_effects); empty while nothing heated it.
+void capture_effects(const Simulation& sim, std::size_t t, std::vector<float>& out) {
+  const ThermalField& field = sim.thermal(t);
+  if (!(field.delivered() > 0)) {
+    out.clear();
+    return;
+  }
+  const MassSpringSettings& s = sim.world().tissues[t]->settings;
+  out.assign(4 * s.vertex_count(), 0.0f);
+  for (std::size_t k = 0; k < s.triangles.size() && k < field.size(); ++k) {
+    const float coagulation = static_cast<float>(1 - std::exp(-field.damage()[k]));
+    const float charring = static_cast<float>(std::min<Real>(1, field.vaporised()[k]));
+    for (const std::uint32_t v : s.triangles[k]) {
+      out[4 * v] = std::max(out[4 * v], coagulation);
+      out[4 * v + 1] = std::max(out[4 * v + 1], charring);
+    }
+  }
+}
+
+}  // namespace
 
 void capture_view(const Simulation& sim, ViewSnapshot& out) {
   const World& world = sim.world();
@@ -10,10 +35,20 @@ void capture_view(const Simulation& sim, ViewSnapshot& out) {
   const OhcStats* ohc = sim.detector().ohc_stats();
   out.cell_size = ohc ? ohc->cell_size : 0;
   out.tissues.resize(world.tissues.size());
+  out.tissue_versions.resize(world.tissues.size(), ~0u);
+  out.tissue_triangles.resize(world.tissues.size());
+  out.tissue_effects.resize(world.tissues.size());
   for (std::size_t t = 0; t < world.tissues.size(); ++t) {
-    const auto& x = world.tissues[t]->state.positions;
+    const TissueBody& tissue = *world.tissues[t];
+    const auto& x = tissue.state.positions;
     out.tissues[t].assign(x.begin(), x.end());
+    if (out.tissue_versions[t] != tissue.model_version) {
+      out.tissue_versions[t] = tissue.model_version;
+      out.tissue_triangles[t] = tissue.settings.triangles;
+    }
+    capture_effects(sim, t, out.tissue_effects[t]);
   }
+  out.vapour.assign(sim.vapour().begin(), sim.vapour().end());
   const std::size_t ni = world.instruments.size();
   out.instruments.resize(ni);
   const auto metrics = sim.instrument_metrics();
@@ -37,6 +72,7 @@ void capture_view(const Simulation& sim, ViewSnapshot& out) {
     const std::uint32_t tri = c.object_a < ni ? c.triangle_b : c.triangle_a;
     if (inst >= ni || tissue_object < ni || tissue_object >= ni + nt) continue;
     const TissueBody& tissue = *world.tissues[tissue_object - ni];
+    if (tri >= tissue.settings.triangles.size()) continue;
     const Triangle& f = tissue.settings.triangles[tri];
     const auto& x = tissue.state.positions;
     Vec3 n = (x[f[1]] - x[f[0]]).cross(x[f[2]] - x[f[0]]);

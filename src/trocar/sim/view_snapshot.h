@@ -46,6 +46,15 @@ struct ViewSnapshot {
   double time = 0;                               ///< simulated time (s)
   std::uint64_t step = 0;                        ///< steps done
   std::vector<std::vector<Vec3>> tissues;        ///< per tissue, its vertex positions (m)
+  /// Per tissue: its model's version (TissueBody::model_version) and, copied when that changed,
+  /// its triangles (a cut changes them: the renderer rebuilds the tissue's buffers).
+  std::vector<std::uint32_t> tissue_versions;
+  std::vector<std::vector<Triangle>> tissue_triangles;
+  /// Per tissue, 4 floats per vertex, empty while the tissue has none: what electrosurgery and
+  /// bleeding did to its surface (docs/electrosurgery.md, "What is drawn"): coagulation 1 − e^(−Ω)
+  /// and charring φ (the largest of its triangles'), the blood film (1 = 0.5 mm) and its stain.
+  std::vector<std::vector<float>> tissue_effects;
+  std::vector<VapourSource> vapour;              ///< per instrument: its electrode's smoke source
   std::vector<InstrumentView> instruments;       ///< per instrument
   std::vector<ContactView> contacts;             ///< instrument–tissue contacts
   std::vector<TackView> tacks;                   ///< holding attachments (torn ones are not drawn)
