@@ -1,19 +1,38 @@
 #include "trocar/electrosurgery/electrode.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
+#include <set>
+#include <utility>
 
 #include "trocar/geometry/closest_point.h"
 
 namespace trocar {
 
-std::vector<std::uint32_t> electrode_vertices(std::span<const Vec3> positions, const Vec3& shaft, Real active_length) {
-  std::vector<std::uint32_t> out;
+std::vector<Vec3> electrode_points(std::span<const Vec3> positions, std::span<const Triangle> triangles,
+                                   const Vec3& shaft, Real active_length, Real spacing) {
+  std::vector<Vec3> out;
   if (positions.empty()) return out;
   Real tip = std::numeric_limits<Real>::infinity();
   for (const Vec3& p : positions) tip = std::min(tip, shaft.dot(p));
-  for (std::uint32_t v = 0; v < positions.size(); ++v)
-    if (shaft.dot(positions[v]) - tip <= active_length) out.push_back(v);
+  std::vector<std::uint8_t> active(positions.size(), 0);
+  for (std::size_t v = 0; v < positions.size(); ++v)
+    if (shaft.dot(positions[v]) - tip <= active_length) {
+      active[v] = 1;
+      out.push_back(positions[v]);
+    }
+  std::set<std::pair<std::uint32_t, std::uint32_t>> edges;
+  for (const Triangle& t : triangles)
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t a = t[k], b = t[(k + 1) % 3];
+      if (a < positions.size() && b < positions.size() && active[a] && active[b]) edges.insert(std::minmax(a, b));
+    }
+  for (const auto& [a, b] : edges) {
+    const Real length = (positions[b] - positions[a]).norm();
+    const int pieces = spacing > 0 ? static_cast<int>(std::ceil(length / spacing)) : 1;
+    for (int k = 1; k < pieces; ++k) out.push_back(positions[a] + (positions[b] - positions[a]) * (Real(k) / pieces));
+  }
   return out;
 }
 

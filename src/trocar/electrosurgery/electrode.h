@@ -23,9 +23,12 @@ struct ElectrodeSpec {
   Real reach = 0.0005;         ///< m: how far from the metal the tissue still takes energy (arc gap)
 };
 
-/// The electrode's vertices in the instrument's local mesh: those within `active_length` of the
-/// tip end along `shaft` (unit, tip → handle). Empty when `positions` is.
-std::vector<std::uint32_t> electrode_vertices(std::span<const Vec3> positions, const Vec3& shaft, Real active_length);
+/// The electrode's surface as points in the instrument's local frame: its vertices within
+/// `active_length` of the tip end along `shaft` (unit, tip → handle), and points every `spacing`
+/// (at most) along the edges between two of them, so that a long thin part (the hook's 5 mm foot
+/// is one ring of vertices at each end) touches what lies under its middle. Empty when the mesh is.
+std::vector<Vec3> electrode_points(std::span<const Vec3> positions, std::span<const Triangle> triangles,
+                                   const Vec3& shaft, Real active_length, Real spacing);
 
 /// Marks in `touched` (one per triangle) the triangles within `reach` of any of `points` (the
 /// electrode's vertices in the world) and returns their total rest area (m², 0: none). A box test

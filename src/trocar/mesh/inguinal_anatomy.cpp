@@ -337,11 +337,14 @@ InguinalAnatomy make_tapp_anatomy(HerniaKind kind, const TappOptions& o) {
   {
     AnatomyStructure s = tubes.add("external_iliac_vein", {eiv0, eiv1}, 0.006, kVein, StructureRole::kTissue);
     vessel_material(s, seg);
+    s.vessel_diameter = 2 * s.radius;
     out.structures.push_back(std::move(s));
   }
   {
     AnatomyStructure s = tubes.add("external_iliac_artery", {eia0, eia1}, 0.0045, kArtery, StructureRole::kTissue);
     vessel_material(s, seg);
+    s.vessel_diameter = 2 * s.radius;
+    s.artery = true;
     out.structures.push_back(std::move(s));
   }
   // Inferior epigastric artery (Ø 2.6 mm) from the iliac artery up the medial side of the deep
@@ -360,11 +363,14 @@ InguinalAnatomy make_tapp_anatomy(HerniaKind kind, const TappOptions& o) {
   for (auto [name, w] : {std::pair{"inferior_epigastric_vein_medial", 0.003}, std::pair{"inferior_epigastric_vein_lateral", -0.003}}) {
     AnatomyStructure s = tubes.add(name, offset(w), 0.001, kVein, StructureRole::kTissue);
     vessel_material(s, seg);
+    s.vessel_diameter = 2 * s.radius;
     out.structures.push_back(std::move(s));
   }
   {
     AnatomyStructure s = tubes.add("inferior_epigastric_artery", iea, 0.0013, kArtery, StructureRole::kTissue);
     vessel_material(s, seg);
+    s.vessel_diameter = 2 * s.radius;
+    s.artery = true;
     out.structures.push_back(std::move(s));
   }
   // The cord at the deep ring: spermatic vessels (a bundle, Ø 4 mm) lateral, the vas (Ø 3 mm)
@@ -375,6 +381,7 @@ InguinalAnatomy make_tapp_anatomy(HerniaKind kind, const TappOptions& o) {
     AnatomyStructure s = tubes.add("spermatic_vessels", {sp0, kDeepRing + 0.045 * kSpermaticDir, Vec2(0.092, kWallY0)},
                                    0.002, kSpermatic, StructureRole::kTissue);
     vessel_material(s, seg);
+    s.vessel_diameter = 0.0015;  // the pampiniform plexus' veins in the bundle (the bundle is Ø 4 mm)
     out.structures.push_back(std::move(s));
   }
   const Vec2 vas0 = kDeepRing + (ring_r + 0.0035) * kVasDir;

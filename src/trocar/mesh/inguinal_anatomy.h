@@ -67,6 +67,10 @@ struct AnatomyStructure {
   bool graspable = true;                 ///< jaws may hold it (TissueBody::graspable)
   std::array<float, 3> colour{0.8f, 0.4f, 0.4f};  ///< linear RGB
   float opacity = 1.0f;
+  /// A blood vessel (it bleeds when cut, torn or burnt through; docs/electrosurgery.md): the
+  /// lumen's diameter (m; 0: not a vessel) and whether it is an artery.
+  Real vessel_diameter = 0;
+  bool artery = false;
   /// Tubes: the centreline (m) and radius the mesh was built on (empty / 0 for other shapes).
   std::vector<Vec3> centreline;
   Real radius = 0;

@@ -24,6 +24,11 @@ void set_material_field(MassSpringMaterial& m, const std::string& key, Real valu
   else throw Error("unknown material field '" + key + "'");
 }
 
+/// N: a grasper pulling a vessel harder tears it. An assumption: within the 1.25–11.43 N of the
+/// largest acceptable tractive forces on porcine tissues (Rodrigues et al., Surg Endosc 2012),
+/// near their low end; no vessel was measured.
+constexpr Real kVesselTearForce = 3.0;
+
 void add_structure(const AnatomyStructure& s, Scene& scene) {
   Appearance look;
   look.given = true;
@@ -43,7 +48,12 @@ void add_structure(const AnatomyStructure& s, Scene& scene) {
   const std::vector<std::uint32_t> new_index = inverse_order(order);
   FixedSelection fixed;
   for (std::uint32_t v : s.fixed) fixed.indices.push_back(new_index[v]);
-  scene.world.add_tissue(s.name, mesh, material, fixed, scene.gravity, IntegratorKind::kXpbd).graspable = s.graspable;
+  TissueBody& tissue = scene.world.add_tissue(s.name, mesh, material, fixed, scene.gravity, IntegratorKind::kXpbd);
+  tissue.graspable = s.graspable;
+  if (s.vessel_diameter > 0) {
+    tissue.bleeds = VesselSpec{s.vessel_diameter, s.artery};
+    tissue.tear_force = kVesselTearForce;
+  }
   scene.textures.emplace_back();
   scene.tissue_appearance.push_back(look);
 }

@@ -40,4 +40,12 @@ ThermalProperties read_thermal(const JsonReader& r) {
   return p;
 }
 
+VesselSpec read_vessel(const JsonReader& r) {
+  r.expect_keys({"diameter", "artery"});
+  VesselSpec v;
+  v.diameter = r.at("diameter").number_above(0);
+  v.artery = r.boolean_or("artery", false);
+  return v;
+}
+
 }  // namespace trocar

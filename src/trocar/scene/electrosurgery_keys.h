@@ -14,4 +14,7 @@ ElectrodeSpec read_electrode(const JsonReader& r);
 /// over the soft-tissue defaults (electrosurgery/thermal.h).
 ThermalProperties read_thermal(const JsonReader& r);
 
+/// "bleeds": {"diameter": m, "artery": bool} — the tissue is a vessel of that lumen.
+VesselSpec read_vessel(const JsonReader& r);
+
 }  // namespace trocar

@@ -114,7 +114,7 @@ IntegratorKind read_integrator(const JsonReader& obj) {
 void read_tissue(const JsonReader& t, std::size_t index, Scene& scene, const std::filesystem::path& dir) {
   t.expect_keys({"name", "mesh", "scale", "translate", "rotate_deg", "repair", "material", "fixed", "integrator",
                  "substeps", "texture", "appearance", "roll", "lay_on", "graspable", "enters_at", "thermal",
-                 "coagulation_stiffening"});
+                 "coagulation_stiffening", "bleeds", "tear_force"});
   const std::string name = name_or(t, "tissue", index);
   TriMesh file_mesh = placed_mesh(t, dir);
   if (t.has("lay_on")) read_tissue_lay_on(t.at("lay_on"), scene.world, file_mesh.positions);  // contact_keys.h
@@ -143,6 +143,8 @@ void read_tissue(const JsonReader& t, std::size_t index, Scene& scene, const std
   if (t.has("graspable")) scene.world.tissues.back()->graspable = t.at("graspable").boolean();
   if (t.has("enters_at")) scene.world.tissues.back()->enters_at = t.at("enters_at").number_at_least(0);
   if (t.has("thermal")) scene.world.tissues.back()->thermal = read_thermal(t.at("thermal"));  // electrosurgery_keys.h
+  if (t.has("bleeds")) scene.world.tissues.back()->bleeds = read_vessel(t.at("bleeds"));
+  if (t.has("tear_force")) scene.world.tissues.back()->tear_force = t.at("tear_force").number_at_least(0);
   if (t.has("coagulation_stiffening"))
     scene.world.tissues.back()->coagulation_stiffening = t.at("coagulation_stiffening").number_above(0);
   std::filesystem::path texture;

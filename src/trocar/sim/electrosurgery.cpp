@@ -1,5 +1,6 @@
 // The electrodes' heat and the tissues' thermal damage in the step (docs/electrosurgery.md).
 #include <algorithm>
+#include <limits>
 
 #include "trocar/core/timer.h"
 #include "trocar/electrosurgery/electrode.h"
@@ -48,9 +49,9 @@ void Simulation::burn(Real dt) {
     const InstrumentBody& body = world_.instruments[i];
     if (!energy_on_[i] || !(body.electrode.power > 0) || phase_[i] != PortPhase::kInside || electrode_[i].empty())
       continue;
-    const std::span<const Vec3> world = body.instrument.world_positions();
+    const Pose& pose = body.instrument.pose();
     electrode_points_.clear();
-    for (const std::uint32_t v : electrode_[i]) electrode_points_.push_back(world[v]);
+    for (const Vec3& p : electrode_[i]) electrode_points_.push_back(pose.apply(p));
     // The touched area over every tissue first: the power is shared over all of it.
     Real area = 0;
     for (std::size_t t = 0; t < nt; ++t) {
@@ -96,6 +97,68 @@ void Simulation::burn(Real dt) {
   }
   for (std::size_t t = 0; t < nt; ++t)
     if (thermal_[t].hot() && time_ + 1e-12 >= next_remodel_[t]) remodel(t);
+  if (!bleeding_tissues_.empty()) bleed(dt);
+}
+
+void Simulation::open_wound(std::size_t t, const Vec3& rest) {
+  if (t >= bleeding_index_.size() || bleeding_index_[t] < 0) return;
+  const auto b = static_cast<std::size_t>(bleeding_index_[t]);
+  const TissueBody& tissue = *world_.tissues[t];
+  if (tissue.settings.vertex_count() == 0) return;
+  // One wound per bleeding point: a cut that goes on, a tear that pulls on, widen the one there.
+  constexpr Real kSamePoint = 0.003;
+  for (const Bleeding::Wound& w : bleeding_.wounds())
+    if (w.tissue == b && (w.state == WoundState::kBleeding || w.state == WoundState::kNeedsClip) &&
+        w.vertex < tissue.settings.vertex_count() &&
+        (tissue.settings.rest_positions[w.vertex] - rest).norm() < kSamePoint)
+      return;
+  std::uint32_t nearest = 0;
+  Real best = std::numeric_limits<Real>::infinity();
+  for (std::uint32_t v = 0; v < tissue.settings.vertex_count(); ++v) {
+    const Real d = (tissue.settings.rest_positions[v] - rest).squaredNorm();
+    if (d < best) {
+      best = d;
+      nearest = v;
+    }
+  }
+  bleeding_.open_wound(b, nearest, *tissue.bleeds, bleeding_.time());
+}
+
+void Simulation::bleed(Real dt) {
+  // Heat at an open wound coagulates it: the largest Ω of the triangles around its vertex, applied
+  // while it rises (the electrode there now).
+  for (std::size_t w = 0; w < bleeding_.wounds().size(); ++w) {
+    const Bleeding::Wound& wound = bleeding_.wounds()[w];
+    if (wound.state != WoundState::kBleeding && wound.state != WoundState::kNeedsClip) continue;
+    const std::size_t t = bleeding_tissues_[wound.tissue];
+    if (!thermal_[t].hot()) continue;
+    const MassSpringSettings& s = world_.tissues[t]->settings;
+    Real damage = 0;
+    for (std::size_t k = 0; k < s.triangles.size(); ++k)
+      if (s.triangles[k][0] == wound.vertex || s.triangles[k][1] == wound.vertex || s.triangles[k][2] == wound.vertex)
+        damage = std::max(damage, thermal_[t].damage()[k]);
+    if (damage > wound.damage) bleeding_.coagulate(w, damage, dt);
+  }
+  // A grasper pulling a vessel harder than it bears tears it where it holds it.
+  for (const std::size_t t : bleeding_tissues_) {
+    const TissueBody& tissue = *world_.tissues[t];
+    if (!(tissue.tear_force > 0)) continue;
+    for (std::size_t i = 0; i < loads_.size(); ++i) {
+      if (responses_[t]->held_vertices(i) == 0 || tissue_force(t, i).norm() <= tissue.tear_force) continue;
+      const Vec3 at = world_.instruments[i].instrument.pose().translation;
+      std::uint32_t nearest = 0;
+      Real best = std::numeric_limits<Real>::infinity();
+      for (std::uint32_t v = 0; v < tissue.state.positions.size(); ++v) {
+        const Real d = (tissue.state.positions[v] - at).squaredNorm();
+        if (d < best) {
+          best = d;
+          nearest = v;
+        }
+      }
+      open_wound(t, tissue.settings.rest_positions[nearest]);
+    }
+  }
+  bleeding_.step({}, Vec3::Zero(), dt);
 }
 
 }  // namespace trocar

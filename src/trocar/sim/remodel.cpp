@@ -62,6 +62,8 @@ void Simulation::remodel(std::size_t t) {
   // The cut, and the maps from the new model's vertices and triangles to the old ones.
   std::vector<std::uint32_t> vertex_origin, triangle_origin;
   std::vector<std::uint8_t> stiffened;
+  Real cut_damage = 0, cut_area = 0;
+  Vec3 cut_centre = Vec3::Zero();
   if (!cut.empty()) {
     std::unordered_map<std::uint64_t, std::uint8_t> was_stiffened;
     was_stiffened.reserve(model.springs.size());
@@ -79,6 +81,11 @@ void Simulation::remodel(std::size_t t) {
       if (it != was_stiffened.end()) stiffened[s] = it->second;
     }
     for (const std::uint32_t k : cut) {
+      cut_damage = std::max(cut_damage, field.damage()[k]);
+      cut_centre += old.settings.rest_areas[k] * (old.settings.rest_positions[old.settings.triangles[k][0]] +
+                                                 old.settings.rest_positions[old.settings.triangles[k][1]] +
+                                                 old.settings.rest_positions[old.settings.triangles[k][2]]) / 3;
+      cut_area += old.settings.rest_areas[k];
       burns_[t].cut_area += old.settings.rest_areas[k];
       ++burns_[t].cut_triangles;
       if (field.coagulated(k)) burns_[t].coagulated_area += old.settings.rest_areas[k];
@@ -114,6 +121,8 @@ void Simulation::remodel(std::size_t t) {
   body->enters_at = old.enters_at;
   body->thermal = old.thermal;
   body->coagulation_stiffening = old.coagulation_stiffening;
+  body->bleeds = old.bleeds;
+  body->tear_force = old.tear_force;
   body->model_version = old.model_version + 1;
 
   // Everything that keeps something of this tissue. The step's contacts name the old triangles;
@@ -135,6 +144,18 @@ void Simulation::remodel(std::size_t t) {
   coagulated_[t] = std::move(coagulated);
   stiffened_[t] = std::move(stiffened);
   size_burn(t);
+  // A cut vessel bleeds unless what was cut had coagulated enough to seal it (a vessel the hook can
+  // seal: cutting through coagulated tissue is how surgeons keep small vessels from bleeding).
+  if (bleeding_index_[t] >= 0) {
+    const auto b = static_cast<std::size_t>(bleeding_index_[t]);
+    bleeding_.remap_tissue(b, vertex_origin, now.settings.triangles, now.settings.rest_positions);
+    if (!cut.empty() && cut_area > 0) {
+      const BleedingProperties& p = bleeding_.properties();
+      const bool sealed = now.bleeds->diameter <= seal_limit(p, EnergyModality::kMonopolar) &&
+                          cut_damage >= seal_threshold(p, *now.bleeds);
+      if (!sealed) open_wound(t, cut_centre / cut_area);
+    }
+  }
 }
 
 }  // namespace trocar

@@ -156,7 +156,10 @@ Simulation::Simulation(World world, const SimulationSettings& settings)
     if (mesh.positions.empty()) continue;
     Vec3 shaft = mesh.positions[body.instrument.top_vertex()];
     shaft = shaft.norm() > 0 ? Vec3(shaft.normalized()) : Vec3::UnitZ();
-    electrode_[i] = electrode_vertices(mesh.positions, shaft, body.electrode.active_length);
+    // Points at most half the reach apart: whatever lies within reach of the metal is within reach
+    // of a point.
+    electrode_[i] = electrode_points(mesh.positions, mesh.triangles, shaft, body.electrode.active_length,
+                                     std::max<Real>(0.5 * body.electrode.reach, 1e-4));
     most = std::max(most, electrode_[i].size());
   }
   electrode_points_.reserve(most);
@@ -173,11 +176,16 @@ Simulation::Simulation(World world, const SimulationSettings& settings)
   stiffened_.resize(nt);
   burns_.resize(nt);
   next_remodel_.assign(nt, 0);
+  bleeding_index_.assign(nt, -1);
   for (std::size_t t = 0; t < nt; ++t) {
     const TissueBody& tissue = *world_.tissues[t];
     thermal_.emplace_back(tissue.thermal, tissue.settings.triangles, tissue.settings.rest_positions,
                           tissue.settings.rest_areas);
     size_burn(t);
+    if (!tissue.bleeds) continue;
+    bleeding_index_[t] = static_cast<std::int64_t>(bleeding_.add_tissue(tissue.settings.triangles,
+                                                                       tissue.settings.rest_positions));
+    bleeding_tissues_.push_back(t);
   }
 }
 

@@ -149,6 +149,14 @@ class Simulation {
   const ThermalField& thermal(std::size_t t) const { return thermal_[t]; }
   /// What electrosurgery did to tissue t so far.
   BurnTally burn_tally(std::size_t t) const;
+  /// The wounds of the bleeding tissues and their blood (docs/electrosurgery.md, "Bleeding"): its
+  /// tissue i is bleeding_tissue(i). Only the wounds' bookkeeping runs in the step (rates,
+  /// seals, what they bled); the blood's flow over the surfaces is the renderer's.
+  const Bleeding& bleeding() const { return bleeding_; }
+  /// The world tissue of the bleeding model's tissue i.
+  std::size_t bleeding_tissue(std::size_t i) const { return bleeding_tissues_[i]; }
+  /// Clips wound w (a clip applier; a scripted event; a test).
+  void clip(std::size_t w) { bleeding_.clip(w); }
   /// Per instrument: where its electrode boils tissue (smoke's source; zero energy if none).
   std::span<const VapourSource> vapour() const { return vapour_; }
   /// Instrument exchange through a port (scene "port"), as a surgeon does: the instrument of
@@ -247,7 +255,7 @@ class Simulation {
   void admit_tissues();
   // Electrosurgery (docs/electrosurgery.md).
   std::vector<std::uint8_t> energy_on_;                  ///< per instrument: pedal down
-  std::vector<std::vector<std::uint32_t>> electrode_;    ///< per instrument: its electrode's vertices
+  std::vector<std::vector<Vec3>> electrode_;             ///< per instrument: its electrode's points (local)
   /// What an electrode touched this step: tissue, triangle, its share of the power (W).
   struct Touch {
     std::uint32_t tissue, triangle;
@@ -255,7 +263,7 @@ class Simulation {
   };
   std::vector<std::vector<Touch>> touches_;              ///< per instrument (capacity kept)
   std::vector<VapourSource> vapour_;                     ///< per instrument
-  std::vector<Vec3> electrode_points_;                   ///< scratch: one electrode's vertices in the world
+  std::vector<Vec3> electrode_points_;                   ///< scratch: one electrode's points in the world
   std::vector<ThermalField> thermal_;                    ///< per tissue
   std::vector<std::vector<Real>> power_;                 ///< per tissue, per triangle: W this step
   std::vector<std::vector<std::uint8_t>> touched_;       ///< per tissue, per triangle: scratch
@@ -263,6 +271,13 @@ class Simulation {
   std::vector<std::vector<std::uint8_t>> coagulated_;    ///< per tissue, per triangle: counted as coagulated
   std::vector<BurnTally> burns_;                         ///< per tissue
   std::vector<Real> next_remodel_;                       ///< per tissue: earliest time of its next remodel (s)
+  Bleeding bleeding_;                                    ///< wounds of the bleeding tissues
+  std::vector<std::size_t> bleeding_tissues_;            ///< bleeding model's tissue → world tissue
+  std::vector<std::int64_t> bleeding_index_;             ///< world tissue → bleeding model's (−1: none)
+  /// Wounds where tissue t bleeds from (after a cut, tear or burn there), unless one is open within
+  /// 3 mm; `rest` is the place in the rest shape.
+  void open_wound(std::size_t t, const Vec3& rest);
+  void bleed(Real dt);                                   ///< seals, tears and the wounds' step
   StepMetrics metrics_;
   Real time_ = 0;
   Real dt_ = 0;  ///< this step's dt (s)

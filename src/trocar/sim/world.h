@@ -1,6 +1,7 @@
 #pragma once
 /// What a simulation simulates: tissues, instruments and rigid obstacles, each with a name.
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -9,6 +10,7 @@
 #include "trocar/instrument/instrument.h"
 #include "trocar/mesh/tri_mesh.h"
 #include "trocar/core/motion.h"
+#include "trocar/electrosurgery/bleeding.h"
 #include "trocar/electrosurgery/electrode.h"
 #include "trocar/electrosurgery/thermal.h"
 #include "trocar/tissue/energy.h"
@@ -45,6 +47,13 @@ struct TissueBody {
   /// "coagulation_stiffening"; 1: unchanged). Elastography of thermal lesions finds them several
   /// times stiffer than the tissue around them (Wu et al., Magn Reson Med 45:80, 2001).
   Real coagulation_stiffening = 3;
+  /// A vessel that bleeds when cut, torn or burnt through without sealing (scene key "bleeds";
+  /// docs/electrosurgery.md, "Bleeding"). Empty: it does not bleed.
+  std::optional<VesselSpec> bleeds;
+  /// N: a grasper pulling it harder than this tears it (a bleeding tissue only; 0: never). The
+  /// largest acceptable tractive forces on porcine tissues run 1.25–11.43 N (Rodrigues et al.,
+  /// Surg Endosc 2012; docs/assessment.md), a vessel's wall among the weakest.
+  Real tear_force = 0;
   /// Counts the changes of the model during a simulation (a cut, coagulation): whatever keeps
   /// something per vertex or triangle of this tissue (a renderer's buffers) rebuilds it when
   /// this moved.
