@@ -37,6 +37,8 @@ void capture_view(const Simulation& sim, ViewSnapshot& out) {
   out.tissues.resize(world.tissues.size());
   out.tissue_versions.resize(world.tissues.size(), ~0u);
   out.tissue_triangles.resize(world.tissues.size());
+  out.tissue_rest.resize(world.tissues.size());
+  out.tissue_bleeds.resize(world.tissues.size());
   out.tissue_effects.resize(world.tissues.size());
   for (std::size_t t = 0; t < world.tissues.size(); ++t) {
     const TissueBody& tissue = *world.tissues[t];
@@ -45,10 +47,16 @@ void capture_view(const Simulation& sim, ViewSnapshot& out) {
     if (out.tissue_versions[t] != tissue.model_version) {
       out.tissue_versions[t] = tissue.model_version;
       out.tissue_triangles[t] = tissue.settings.triangles;
+      out.tissue_rest[t] = tissue.settings.rest_positions;
     }
+    out.tissue_bleeds[t] = tissue.bleeds ? 1 : 0;
     capture_effects(sim, t, out.tissue_effects[t]);
   }
   out.vapour.assign(sim.vapour().begin(), sim.vapour().end());
+  out.wounds.clear();
+  for (const Bleeding::Wound& w : sim.bleeding().wounds())
+    out.wounds.push_back({static_cast<std::uint32_t>(sim.bleeding_tissue(w.tissue)), w.vertex, w.emitted,
+                          w.state == WoundState::kBleeding || w.state == WoundState::kNeedsClip});
   const std::size_t ni = world.instruments.size();
   out.instruments.resize(ni);
   const auto metrics = sim.instrument_metrics();

@@ -50,11 +50,22 @@ struct ViewSnapshot {
   /// its triangles (a cut changes them: the renderer rebuilds the tissue's buffers).
   std::vector<std::uint32_t> tissue_versions;
   std::vector<std::vector<Triangle>> tissue_triangles;
+  std::vector<std::vector<Vec3>> tissue_rest;    ///< per tissue, copied with its triangles: rest positions (m)
   /// Per tissue, 4 floats per vertex, empty while the tissue has none: what electrosurgery and
   /// bleeding did to its surface (docs/electrosurgery.md, "What is drawn"): coagulation 1 − e^(−Ω)
   /// and charring φ (the largest of its triangles'), the blood film (1 = 0.5 mm) and its stain.
   std::vector<std::vector<float>> tissue_effects;
   std::vector<VapourSource> vapour;              ///< per instrument: its electrode's smoke source
+  /// Per tissue: whether it bleeds (a vessel); and every wound so far (Simulation::bleeding): the
+  /// renderer runs the blood's flow over the surfaces from what each wound has bled.
+  std::vector<std::uint8_t> tissue_bleeds;
+  struct WoundView {
+    std::uint32_t tissue = 0;   ///< world tissue index
+    std::uint32_t vertex = 0;   ///< the bleeding point (a vertex of the tissue's current model)
+    Real emitted = 0;           ///< m³ it has bled so far
+    bool open = true;           ///< still bleeding (not sealed or clipped)
+  };
+  std::vector<WoundView> wounds;
   std::vector<InstrumentView> instruments;       ///< per instrument
   std::vector<ContactView> contacts;             ///< instrument–tissue contacts
   std::vector<TackView> tacks;                   ///< holding attachments (torn ones are not drawn)
