@@ -17,6 +17,7 @@
 #include "cli_support.h"
 #include "frame_size.h"
 #include "realtime_command.h"
+#include "burn_report.h"
 #include "task_report.h"
 #include "trocar/core/cpu_features.h"
 #include "trocar/core/error.h"
@@ -174,7 +175,7 @@ void run(const Options& o) {
     session = std::make_unique<RecordingWriter>(session_tmp, h, steps + 16);  // never full: nothing dropped
   }
 
-  std::vector<double> t_broad, t_narrow, t_response, t_deform, t_step;
+  std::vector<double> t_broad, t_narrow, t_response, t_deform, t_step, t_burning;
   for (auto* v : {&t_broad, &t_narrow, &t_response, &t_deform, &t_step}) v->reserve(steps);
   std::vector<double> depths, forces;
   std::uint64_t pairs_total = 0, pairs_max = 0, steps_with_contact = 0, tunneling = 0;
@@ -200,6 +201,7 @@ void run(const Options& o) {
     t_response.push_back(m.timings.response);
     t_deform.push_back(m.timings.deformation);
     t_step.push_back(m.timings.step);
+    if (m.energy > 0) t_burning.push_back(m.timings.step);  // an electrode burning tissue this step
     pairs_total += m.contacts;
     pairs_max = std::max<std::uint64_t>(pairs_max, m.contacts);
     steps_with_contact += m.contacts > 0 ? 1 : 0;
@@ -270,6 +272,10 @@ void run(const Options& o) {
       {"state_hash", hash_hex(sim.state_hash())},
   };
   if (procedure) report["task"] = task_report(*procedure);
+  if (has_electrosurgery(sim)) {
+    report["electrosurgery"] = electrosurgery_report(sim);  // burn_report.h
+    report["timing_us"]["step_while_burning"] = summary(t_burning);
+  }
   if (record) {
     record->close();
     fs::rename(record_tmp, o.record);

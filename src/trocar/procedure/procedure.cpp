@@ -39,6 +39,9 @@ const char* to_string(TaskEventKind kind) {
     case TaskEventKind::kZoneForce: return "zone force";
     case TaskEventKind::kVesselGrasped: return "vessel grasped";
     case TaskEventKind::kMeshDropped: return "mesh dropped";
+    case TaskEventKind::kZoneBurnt: return "zone burnt";
+    case TaskEventKind::kBleeding: return "bleeding";
+    case TaskEventKind::kHaemostasis: return "haemostasis";
   }
   return "step done";
 }
@@ -83,6 +86,7 @@ Procedure::Procedure(TaskSpec spec, const World& world, std::span<const NamedZon
   rules.pullout_force = spec_.tack_pullout;
   tacker_rules_.assign(world.instruments.size(), rules);
   zone_episodes_.assign(world.instruments.size() * zones_.size(), {});
+  zone_burnt_.assign(world.instruments.size() * zones_.size(), 0);
   vessel_held_.assign(world.instruments.size() * vessels_.size(), 0);
   const Vec3 g = world.tissues[mesh_]->settings.gravity;
   gravity_dir_ = g.norm() > 0 ? Vec3(g.normalized()) : Vec3::Zero();
@@ -110,6 +114,7 @@ void Procedure::update(const Simulation& sim) {
   watch_zones(sim);
   watch_vessels(sim);
   watch_mesh(sim);
+  watch_burns(sim);
   evaluate(sim, TaskStep::kMeshFixed);  // cheap (a few tacks): its counts are shown before it is active
   for (std::size_t s = 0; s < kTaskSteps; ++s) {
     if (steps_[s].state == StepState::kDone) continue;
@@ -208,6 +213,46 @@ void Procedure::watch_zones(const Simulation& sim) {
         ep.touching = false;
       }
     }
+  }
+}
+
+void Procedure::watch_burns(const Simulation& sim) {
+  const World& world = sim.world();
+  const Real now = sim.time();
+  // An electrode burning in a named zone: once per zone per press of its pedal.
+  const auto vapour = sim.vapour();
+  for (std::size_t i = 0; i < vapour.size() && i < world.instruments.size(); ++i) {
+    if (!sim.energy_on(i)) std::fill_n(zone_burnt_.begin() + static_cast<std::ptrdiff_t>(i * zones_.size()),
+                                       zones_.size(), std::uint8_t{0});
+    if (!vapour[i].burning) continue;
+    for (std::size_t z = 0; z < zones_.size(); ++z) {
+      if (zone_burnt_[i * zones_.size() + z] || !zones_[z].contains(vapour[i].at)) continue;
+      zone_burnt_[i * zones_.size() + z] = 1;
+      log(now, TaskEventKind::kZoneBurnt, true, vapour[i].at, zones_[z].name,
+          format("%s burnt by %s", zones_[z].name.c_str(), instrument_names_[i].c_str()));
+    }
+  }
+  // A wound is an error; its haemostasis a note with the time it took.
+  const Bleeding& bleeding = sim.bleeding();
+  const auto wounds = bleeding.wounds();
+  for (; wounds_seen_ < wounds.size(); ++wounds_seen_) {
+    const Bleeding::Wound& w = wounds[wounds_seen_];
+    const TissueBody& tissue = *world.tissues[sim.bleeding_tissue(w.tissue)];
+    const Vec3 place = w.vertex < tissue.state.positions.size() ? tissue.state.positions[w.vertex] : Vec3::Zero();
+    log(now, TaskEventKind::kBleeding, true, place, "",
+        format("%s bleeding (%s, %.1f mm)", tissue.name.c_str(), w.vessel.artery ? "artery" : "vein",
+               1e3 * w.vessel.diameter));
+    wound_closed_.push_back(0);
+  }
+  for (std::size_t w = 0; w < wound_closed_.size(); ++w) {
+    if (wound_closed_[w]) continue;
+    const std::optional<Real> took = bleeding.time_to_haemostasis(w);
+    if (!took) continue;
+    wound_closed_[w] = 1;
+    const TissueBody& tissue = *world.tissues[sim.bleeding_tissue(wounds[w].tissue)];
+    log(now, TaskEventKind::kHaemostasis, false, Vec3::Zero(), "",
+        format("%s: bleeding stopped (%s) after %.1f s, %.2f ml lost", tissue.name.c_str(),
+               wounds[w].state == WoundState::kClipped ? "clipped" : "sealed", *took, 1e6 * wounds[w].emitted));
   }
 }
 

@@ -30,10 +30,13 @@ enum class TaskEventKind : std::uint8_t {
   kZoneForce,      ///< error: a named zone touched with more than the stated force
   kVesselGrasped,  ///< error: a vessel held by closed jaws
   kMeshDropped,    ///< error: the mesh let go of and fallen
+  kZoneBurnt,      ///< error: an electrode burning in a named zone
+  kBleeding,       ///< error: a vessel cut, torn or burnt open (a wound bleeds)
+  kHaemostasis,    ///< a bleeding wound sealed or clipped (a note; the time it took in the text)
 };
 
 /// "step done", "tack", "tack in zone", "tack not held", "zone force", "vessel grasped",
-/// "mesh dropped".
+/// "mesh dropped", "zone burnt", "bleeding", "haemostasis".
 const char* to_string(TaskEventKind kind);
 
 /// One entry of the log.
@@ -109,6 +112,7 @@ class Procedure final : public ActionHandler {
   void watch_zones(const Simulation& sim);
   void watch_vessels(const Simulation& sim);
   void watch_mesh(const Simulation& sim);
+  void watch_burns(const Simulation& sim);
   bool evaluate(const Simulation& sim, TaskStep s);
   bool mesh_has_holding_tack(const Simulation& sim) const;
   Vec3 mesh_centroid(const Simulation& sim) const;
@@ -134,6 +138,10 @@ class Procedure final : public ActionHandler {
     Real last_touch = -1;    ///< s
   };
   std::vector<ZoneEpisode> zone_episodes_;      ///< instrument-major
+  /// Per (instrument, zone): burnt in the current press of its pedal (reported once a press).
+  std::vector<std::uint8_t> zone_burnt_;
+  std::size_t wounds_seen_ = 0;                 ///< wounds logged as bleeding
+  std::vector<std::uint8_t> wound_closed_;      ///< per wound logged: its haemostasis logged
   std::vector<std::uint8_t> vessel_held_;       ///< per (instrument, vessel): held last update
   bool mesh_held_ = false;
   bool mesh_watch_ = false;                     ///< released and not yet fallen or re-held

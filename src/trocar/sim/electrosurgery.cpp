@@ -45,6 +45,7 @@ void Simulation::heat(std::size_t t, std::uint32_t k, Real joules) {
 void Simulation::burn(Real dt) {
   const std::size_t nt = world_.tissues.size();
   bool any = false;
+  for (VapourSource& v : vapour_) v.burning = false;
   for (std::size_t i = 0; i < world_.instruments.size(); ++i) {
     const InstrumentBody& body = world_.instruments[i];
     if (!energy_on_[i] || !(body.electrode.power > 0) || phase_[i] != PortPhase::kInside || electrode_[i].empty())
@@ -79,6 +80,7 @@ void Simulation::burn(Real dt) {
       }
     }
     vapour_[i].at = centre / area;
+    vapour_[i].burning = true;
     metrics_.energy += body.electrode.power * dt;
   }
   for (std::size_t t = 0; t < nt; ++t) {

@@ -38,26 +38,41 @@ void Simulation::remodel(std::size_t t) {
   ++metrics_.remodelled;
 
   // Coagulation: the triangle's edge springs, once each, stiffer and at rest at their length now.
-  MassSpringSettings model = old.settings;
+  MassSpringSettings& current = old.settings;  // springs changed in place when nothing is cut
+  std::vector<std::uint32_t> changed;
+  std::vector<Spring> springs_before;
   if (!coagulating.empty()) {
     std::unordered_map<std::uint64_t, std::uint32_t> spring_of;
-    spring_of.reserve(model.structural_count);
-    for (std::uint32_t s = 0; s < model.structural_count; ++s)
-      spring_of.emplace(pair_key(model.springs[s].i, model.springs[s].j, false), s);
+    spring_of.reserve(current.structural_count);
+    for (std::uint32_t s = 0; s < current.structural_count; ++s)
+      spring_of.emplace(pair_key(current.springs[s].i, current.springs[s].j, false), s);
     for (const std::uint32_t k : coagulating) {
       coagulated_[t][k] = 1;
-      const Triangle& tri = model.triangles[k];
+      const Triangle& tri = current.triangles[k];
       for (int e = 0; e < 3; ++e) {
         const auto it = spring_of.find(pair_key(tri[e], tri[(e + 1) % 3], false));
         if (it == spring_of.end() || stiffened_[t][it->second]) continue;
         stiffened_[t][it->second] = 1;
-        Spring& sp = model.springs[it->second];
+        Spring& sp = current.springs[it->second];
+        springs_before.push_back(sp);
+        changed.push_back(it->second);
         sp.stiffness *= old.coagulation_stiffening;
         const Real length = (old.state.positions[sp.i] - old.state.positions[sp.j]).norm();
         if (std::isfinite(length) && length > 0) sp.rest_length = length;
       }
     }
   }
+  // Nothing cut and an integrator that takes new spring constants in place: no rebuild.
+  if (cut.empty()) {
+    if (old.integrator.springs_changed(changed)) {
+      old.energy.springs_changed();
+      ++old.model_version;
+      return;
+    }
+  }
+  MassSpringSettings model = current;
+  // The retired body keeps the settings it was built with (its integrator still refers to them).
+  for (std::size_t c = 0; c < changed.size(); ++c) current.springs[changed[c]] = springs_before[c];
 
   // The cut, and the maps from the new model's vertices and triangles to the old ones.
   std::vector<std::uint32_t> vertex_origin, triangle_origin;

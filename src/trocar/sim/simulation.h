@@ -93,6 +93,7 @@ struct VapourSource {
   Vec3 at = Vec3::Zero();   ///< m: centre of the surface it touched last
   Vec3 up = Vec3::UnitZ();  ///< unit, against gravity
   Real energy = 0;          ///< J put into boiling tissue water by this electrode so far
+  bool burning = false;     ///< this step its pedal was down and it touched tissue (at `at`)
 };
 
 /// What electrosurgery did to one tissue so far.

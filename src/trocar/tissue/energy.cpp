@@ -14,6 +14,10 @@ ElasticEnergyMeter::ElasticEnergyMeter(const MassSpringSettings& settings) : set
   use_avx2_ = cpu_has_avx2_fma();
 }
 
+void ElasticEnergyMeter::springs_changed() {
+  springs_ = tissue_detail::make_spring_layout(settings_.springs, settings_.vertex_count());
+}
+
 Real ElasticEnergyMeter::elastic(std::span<const Vec3> x) {
   const MassSpringSettings& s = settings_;
   assert(x.size() == s.vertex_count());

@@ -21,6 +21,9 @@ class ElasticEnergyMeter {
   /// gravity off, to rounding.
   Real elastic(std::span<const Vec3> x);
 
+  /// The settings' springs changed (stiffness, rest length): lays them out again. Allocates.
+  void springs_changed();
+
   /// Runs the portable passes even where the CPU has AVX2 (for tests and comparisons).
   void set_simd(bool on) { use_avx2_ = on && cpu_has_avx2_fma(); }
 

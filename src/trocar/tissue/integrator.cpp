@@ -89,6 +89,12 @@ void MassSpringIntegrator::home_moved() {
   if (implicit_avx2_) implicit_avx2_->home_moved(settings_);
 }
 
+bool MassSpringIntegrator::springs_changed(std::span<const std::uint32_t> springs) {
+  if (kind_ != IntegratorKind::kXpbd) return false;
+  xpbd_->springs_changed(springs);
+  return true;
+}
+
 void MassSpringIntegrator::set_simd(bool on) {
   use_avx2_ = on && cpu_has_avx2_fma();
   if (kind_ == IntegratorKind::kXpbd) return;

@@ -2,6 +2,7 @@
 /// Time integration of a mass-spring tissue.
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <string_view>
 #include <vector>
 
@@ -67,6 +68,10 @@ class MassSpringIntegrator {
   void set_contacts(XpbdContacts* contacts) { contacts_ = contacts; }
   /// The settings' home anchors moved (yield_home()): copies them again where a pass keeps its own.
   void home_moved();
+  /// The settings' springs `springs` changed stiffness, rest length or damping (coagulation):
+  /// copies them again in place where it can (xpbd; no allocation) and returns true; false where
+  /// it cannot (the other kinds keep them in layouts built once: rebuild the integrator).
+  bool springs_changed(std::span<const std::uint32_t> springs);
   /// xpbd: the solver (null for the other kinds).
   XpbdSolver* xpbd() { return xpbd_.get(); }
   const XpbdSolver* xpbd() const { return xpbd_.get(); }

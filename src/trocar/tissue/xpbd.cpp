@@ -3,6 +3,7 @@
 #include "trocar/tissue/xpbd.h"
 
 #include <algorithm>
+#include <limits>
 #include <cmath>
 
 #include "trocar/core/cpu_features.h"
@@ -74,6 +75,7 @@ XpbdSolver::XpbdSolver(const MassSpringSettings& settings, XpbdOptions options)
   }
   std::size_t colours = 0;
   const std::vector<std::uint32_t> colour = colour_items(ids, 2, n, colours);
+  slot_of_spring_.assign(settings.springs.size(), std::numeric_limits<std::uint32_t>::max());
   std::vector<std::size_t> order(kept.size());
   for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
   std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
@@ -83,6 +85,7 @@ XpbdSolver::XpbdSolver(const MassSpringSettings& settings, XpbdOptions options)
   for (std::size_t k = 0, c = 0; c < colours; ++c) {
     for (; k < order.size() && colour[order[k]] == c; ++k) {
       const Spring& sp = settings.springs[kept[order[k]]];
+      slot_of_spring_[kept[order[k]]] = static_cast<std::uint32_t>(spring_i_.size());
       spring_i_.push_back(sp.i);
       spring_j_.push_back(sp.j);
       spring_rest_.push_back(static_cast<float>(sp.rest_length));
@@ -136,6 +139,17 @@ XpbdSolver::XpbdSolver(const MassSpringSettings& settings, XpbdOptions options)
 }
 
 void XpbdSolver::set_simd(bool on) { avx2_ = on && cpu_has_avx2_fma(); }
+
+void XpbdSolver::springs_changed(std::span<const std::uint32_t> springs) {
+  for (const std::uint32_t s : springs) {
+    if (s >= slot_of_spring_.size() || slot_of_spring_[s] == std::numeric_limits<std::uint32_t>::max()) continue;
+    const Spring& sp = settings_.springs[s];
+    const std::uint32_t slot = slot_of_spring_[s];
+    spring_rest_[slot] = static_cast<float>(sp.rest_length);
+    spring_compliance_[slot] = static_cast<float>(1.0 / sp.stiffness);
+    spring_damping_[slot] = static_cast<float>(sp.damping);
+  }
+}
 
 XpbdStats XpbdSolver::step(MassSpringState& state, const TissueLoads& loads, Real dt, XpbdContacts* contacts) {
   const std::size_t n = x_.size() - 1;  // the padding particle stays at the origin, w = 0

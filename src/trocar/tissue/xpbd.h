@@ -92,6 +92,9 @@ class XpbdSolver {
 
   const XpbdOptions& options() const { return options_; }
   void set_substeps(int substeps) { options_.substeps = substeps < 1 ? 1 : substeps; }
+  /// The settings' springs `springs` (indices) changed stiffness, rest length or damping (a
+  /// coagulated patch): copies them again. No allocation.
+  void springs_changed(std::span<const std::uint32_t> springs);
   /// Whether the AVX2 passes run (default: where the CPU has AVX2 + FMA); off runs the scalar
   /// passes, which give the same result to float rounding.
   void set_simd(bool on);
@@ -117,6 +120,7 @@ class XpbdSolver {
   std::vector<std::uint32_t> spring_i_, spring_j_;
   std::vector<float> spring_rest_, spring_compliance_, spring_damping_;
   std::vector<std::size_t> spring_colour_start_;
+  std::vector<std::uint32_t> slot_of_spring_;  ///< per settings spring: its slot above (UINT32_MAX: not solved)
   // Triangles of the area term, the same way.
   std::vector<std::uint32_t> triangle_v0_, triangle_v1_, triangle_v2_;
   std::vector<float> triangle_rest_;
