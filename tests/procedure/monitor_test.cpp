@@ -182,3 +182,60 @@ TEST(Monitors, TheMeshFallingThreeCentimetresAfterItIsLetGoOfIsDropped) {
 
 }  // namespace
 }  // namespace trocar
+
+namespace trocar {
+namespace {
+
+// The live hook on a sheet inside the zone "doom": two presses of its pedal, each one zone-burnt
+// event; a press outside every zone none. The sheet is a vessel: the hook cuts it open (a 4 mm
+// vein the hook cannot seal), one bleeding event.
+std::string burn_scene() {
+  return std::string(R"({
+  "schema": 1, "name": "burn", "timestep": 0.001, "duration": 2.4, "gravity": [0, 0, -9.81],
+  "tissues": [
+    { "name": "wall", "mesh": {"generate": "sheet", "width": 0.06, "height": 0.06, "nx": 30, "ny": 30},
+      "material": {"preset": "peritoneum"}, "fixed": {"indices": [0, 30, 930, 960]},
+      "bleeds": {"diameter": 0.004, "artery": false}, "integrator": "xpbd" },)") +
+         kTaskBodies + R"(],
+  "instruments": [{ "name": "hook", "mesh": {"generate": "hook-probe", "shaft_length": 0.1},
+    "shaft_direction": [0, 0, 1], "electrode": {"power": 40},
+    "motion": {"keyframes": [
+      {"t": 0, "position": [0, -0.0025, -0.0002], "rotate_deg": [0, 0, 90]},
+      {"t": 1.5, "position": [0, -0.0025, -0.0002], "rotate_deg": [0, 0, 90]},
+      {"t": 1.6, "position": [0.02, -0.0025, -0.0002], "rotate_deg": [0, 0, 90]}]}}],
+  "events": [{"t": 0.1, "action": "energy_on", "instrument": "hook"}, {"t": 0.2, "action": "energy_off", "instrument": "hook"},
+             {"t": 0.4, "action": "energy_on", "instrument": "hook"}, {"t": 1.4, "action": "energy_off", "instrument": "hook"},
+             {"t": 1.7, "action": "energy_on", "instrument": "hook"}, {"t": 2.3, "action": "energy_off", "instrument": "hook"}],
+  "zones": [{"name": "doom", "polygon": [[-0.005, -0.005, 0], [0.005, -0.005, 0], [0.005, 0.005, 0], [-0.005, 0.005, 0]]}],
+  )" + kLandmarks + R"(,
+  "task": {"sac": "sac", "mesh": "mesh"}
+})";
+}
+
+TEST(Monitors, BurningInAZoneIsOneEventPerPressAndACutVesselBleeds) {
+  Scene scene = parse_scene(burn_scene(), "burn.json", ".");
+  Simulation sim = make_simulation(scene);
+  Procedure p(*scene.task, sim.world(), scene.zones, scene.landmarks);
+  ActionScript actions(scene.actions);
+  drive(sim, scene.timestep, step_count(scene.duration, scene.timestep), [&](const StepMetrics&) {
+    p.update(sim);
+    actions.play_before(sim.time() + scene.timestep,
+                        [&](std::size_t i, std::uint32_t bit) { apply_actions(sim, i, bit, &p); });
+  });
+  std::size_t burnt = 0, bleeding = 0;
+  for (const TaskEvent& e : p.events()) {
+    if (e.kind == TaskEventKind::kZoneBurnt) {
+      ++burnt;
+      EXPECT_EQ(e.zone, "doom");
+      EXPECT_LT(e.time, 1.45);  // never during the third press, 2 cm away
+    }
+    bleeding += e.kind == TaskEventKind::kBleeding ? 1 : 0;
+  }
+  EXPECT_EQ(burnt, 2u);
+  EXPECT_GT(sim.burn_tally(0).cut_triangles, 0u);
+  EXPECT_EQ(bleeding, 1u);
+  EXPECT_EQ(p.error_count(), burnt + bleeding);
+}
+
+}  // namespace
+}  // namespace trocar
