@@ -101,6 +101,28 @@ TEST(Metrics, AnUnfinishedTaskTakesTheWholeSession) {
   EXPECT_NEAR(value(measure(t), "task_time"), 2.0, 1e-12);
 }
 
+TEST(Metrics, ElectrosurgeryIsReportedInItsUnitsAndNotScored) {
+  SessionTrace t = two_hands();
+  EXPECT_EQ(find_metric(measure(t), "blood_loss"), nullptr);  // a scene that cannot burn or bleed
+  t.energy.present = true;
+  t.energy.energy = 12.5;
+  t.energy.coagulated_area = 3e-5;    // 30 mm²
+  t.energy.blood_loss = 2.5e-6;       // 2.5 ml
+  t.energy.wounds = 2;
+  t.energy.wounds_open = 1;
+  t.energy.haemostasis_time = 4.0;
+  t.events.push_back({1.0, "zone burnt", true, Vec3::Zero(), "triangle_of_doom", ""});
+  t.events.push_back({1.5, "zone burnt", true, Vec3::Zero(), "triangle_of_pain", ""});
+  const std::vector<Metric> m = measure(t);
+  EXPECT_DOUBLE_EQ(value(m, "energy"), 12.5);
+  EXPECT_NEAR(value(m, "coagulated_area"), 30.0, 1e-9);
+  EXPECT_NEAR(value(m, "blood_loss"), 2.5, 1e-9);
+  EXPECT_EQ(value(m, "zones_burnt"), 2.0);
+  EXPECT_EQ(value(m, "wounds_open"), 1.0);
+  EXPECT_EQ(value(m, "time_to_haemostasis"), 4.0);
+  EXPECT_FALSE(find_metric(m, "blood_loss")->scored);
+}
+
 Metric scored(const std::string& id, Real v, bool lower_is_better = true, GoalsDomain d = GoalsDomain::kEfficiency) {
   return {id, id, "", d, lower_is_better, true, v};
 }

@@ -173,6 +173,20 @@ std::vector<Metric> measure(const SessionTrace& trace, const MetricSettings& s) 
     add(details, "mesh_coverage", "Mesh coverage of the required region", "%", D::kNone, false, false,
         100 * trace.task.coverage);
   }
+  if (trace.energy.present) {
+    // Details, not scored: an expert's session burns and bleeds so little that its spread would
+    // make any burn a failure (docs/assessment.md, "Electrosurgery").
+    const TraceEnergy& e = trace.energy;
+    int burnt = 0;
+    for (const TraceEvent& ev : trace.events) burnt += ev.kind == "zone burnt" ? 1 : 0;
+    add(details, "energy", "Energy into tissue", "J", D::kTissueHandling, true, false, e.energy);
+    add(details, "coagulated_area", "Tissue coagulated", "mm²", D::kTissueHandling, true, false, 1e6 * e.coagulated_area);
+    add(details, "zones_burnt", "Named zones burnt", "", D::kTissueHandling, true, false, burnt);
+    add(details, "blood_loss", "Blood loss", "ml", D::kTissueHandling, true, false, 1e6 * e.blood_loss);
+    add(details, "wounds_open", "Wounds still bleeding at the end", "", D::kTissueHandling, true, false, e.wounds_open);
+    add(details, "time_to_haemostasis", "Mean time to haemostasis", "s", D::kTissueHandling, true, false,
+        e.haemostasis_time);
+  }
   out.insert(out.end(), details.begin(), details.end());
   return out;
 }

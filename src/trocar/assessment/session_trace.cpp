@@ -71,7 +71,32 @@ void TraceSampler::sample(const Simulation& sim) {
   }
 }
 
-SessionTrace TraceSampler::finish(const Procedure* procedure) {
+SessionTrace TraceSampler::finish(const Procedure* procedure, const Simulation* sim) {
+  if (sim) {
+    bool can = sim->bleeding().tissues() > 0;
+    for (const InstrumentBody& body : sim->world().instruments) can = can || body.electrode.power > 0;
+    TraceEnergy& e = trace_.energy;
+    e.present = can;
+    for (std::size_t t = 0; t < sim->world().tissues.size(); ++t) {
+      const BurnTally b = sim->burn_tally(t);
+      e.energy += b.energy;
+      e.coagulated_area += b.coagulated_area;
+      e.cut_area += b.cut_area;
+    }
+    const Bleeding& bleeding = sim->bleeding();
+    e.blood_loss = bleeding.emitted();
+    e.wounds = static_cast<int>(bleeding.wounds().size());
+    Real took = 0;
+    int closed = 0;
+    for (std::size_t w = 0; w < bleeding.wounds().size(); ++w) {
+      if (const std::optional<Real> t = bleeding.time_to_haemostasis(w)) {
+        took += *t;
+        ++closed;
+      }
+    }
+    e.wounds_open = e.wounds - closed;
+    e.haemostasis_time = closed > 0 ? took / closed : 0;
+  }
   if (procedure) {
     for (const TaskEvent& e : procedure->events())
       trace_.events.push_back({e.time, to_string(e.kind), e.error, e.place, e.zone, e.text});
@@ -106,7 +131,7 @@ TracedSession trace_recording(const std::filesystem::path& recording, ReplayObse
       if (also) also->step(sim, p, r);
     }
     void end(const Simulation& sim, const Procedure* p) override {
-      finished = sampler.finish(p);
+      finished = sampler.finish(p, &sim);
       if (also) also->end(sim, p);
     }
   } sampler;

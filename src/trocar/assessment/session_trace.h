@@ -26,7 +26,7 @@ class TraceSampler final : public ReplayObserver {
   void start(const Scene& scene, const Simulation& sim, const Procedure* procedure) override;
   void step(const Simulation& sim, const Procedure* procedure, const StepRecord& record) override;
   /// The events and the task's outcome from the procedure; returns the trace.
-  SessionTrace finish(const Procedure* procedure);
+  SessionTrace finish(const Procedure* procedure, const Simulation* sim = nullptr);
 
  private:
   void sample(const Simulation& sim);

@@ -56,6 +56,17 @@ struct TraceTask {
   Real sac_fraction = 0;        ///< share of the sac reduced
 };
 
+/// Electrosurgery and bleeding at the end (docs/electrosurgery.md).
+struct TraceEnergy {
+  bool present = false;         ///< the scene can burn or bleed (an electrode, a bleeding tissue)
+  Real energy = 0;              ///< J the electrodes put into tissue
+  Real coagulated_area = 0;     ///< m², all tissues
+  Real cut_area = 0;            ///< m², all tissues
+  Real blood_loss = 0;          ///< m³ all wounds bled
+  int wounds = 0, wounds_open = 0;
+  Real haemostasis_time = 0;    ///< s, the mean time the closed wounds bled (0: none closed)
+};
+
 struct SessionTrace {
   std::string scene;                     ///< scene name
   Real dt = 0;                           ///< s between samples
@@ -64,6 +75,7 @@ struct SessionTrace {
   std::vector<TissueTrace> tissues;
   std::vector<TraceEvent> events;
   TraceTask task;
+  TraceEnergy energy;
   /// s: the first step whose state was not stable (core/stability.h), < 0 when none. After it the
   /// numbers are the blow-up's, not the trainee's: the session cannot be assessed.
   Real unstable_at = -1;
