@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <string>
 
 #include "trocar/procedure/procedure.h"
@@ -235,6 +236,51 @@ TEST(Monitors, BurningInAZoneIsOneEventPerPressAndACutVesselBleeds) {
   EXPECT_GT(sim.burn_tally(0).cut_triangles, 0u);
   EXPECT_EQ(bleeding, 1u);
   EXPECT_EQ(p.error_count(), burnt + bleeding);
+}
+
+}  // namespace
+}  // namespace trocar
+
+namespace trocar {
+namespace {
+
+/// A vessel (a ball of radius 5 mm, its bottom held, its top at z = 1.5 mm; xpbd, whose jaws hold
+/// vertices as attachments whose pull is the force on the tissue) that tears above `tear_force`:
+/// the grasper's tip comes down on its top, the jaws close at 0.3 s and lift it 1 cm by 0.5 s. `peak`: the
+/// largest force on it while the jaws held it (N).
+std::size_t tears(double tear_force, double& peak) {
+  std::string text = R"({
+  "schema": 1, "name": "tear", "timestep": 0.001, "duration": 0.6, "gravity": [0, 0, -9.81],
+  "tissues": [{ "name": "vessel", "mesh": {"generate": "icosphere", "radius": 0.005, "subdivisions": 3},
+    "translate": [0, 0, -0.0035],
+    "material": {"preset": "soft"}, "fixed": {"below_plane": {"point": [0, 0, -0.006], "normal": [0, 0, 1]}},
+    "bleeds": {"diameter": 0.002, "artery": true}, "tear_force": TEAR, "integrator": "xpbd" },)";
+  text.replace(text.find("TEAR"), 4, std::to_string(tear_force));
+  text += std::string(kTaskBodies) + R"(],
+  "instruments": [{
+    "name": "grasper", "mesh": { "generate": "grasper", "shaft_length": 0.15 }, "top_vertex": "auto",
+    "jaw_triangles": [0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20, 21, 22, 23],
+    "motion": { "keyframes": [
+      { "t": 0.0, "position": [0, 0, 0.01], "jaw": 0 }, { "t": 0.2, "position": [0, 0, 0.0015], "jaw": 0 },
+      { "t": 0.3, "position": [0, 0, 0.0015], "jaw": 1 }, { "t": 0.5, "position": [0, 0, 0.0115], "jaw": 1 } ] } }],
+  )" + kLandmarks + R"(,
+  "task": {"sac": "sac", "mesh": "mesh", "vessels": ["vessel"]}
+})";
+  Scene scene = parse_scene(text, "tear.json", ".");
+  Simulation sim = make_simulation(scene);
+  peak = 0;
+  drive(sim, scene.timestep, step_count(scene.duration, scene.timestep), [&](const StepMetrics&) {
+    if (sim.response(0).held_vertices(0) > 0) peak = std::max(peak, sim.tissue_force(0, 0).norm());
+  });
+  return sim.bleeding().wounds().size();
+}
+
+TEST(Monitors, AVesselPulledHarderThanItBearsTearsOpenOnce) {
+  double peak = 0;
+  EXPECT_EQ(tears(1000, peak), 0u);
+  std::printf("peak pull while held %.2f N\n", peak);
+  ASSERT_GT(peak, 1.0);  // the lift loads it past 1 N (1.54 N measured)
+  EXPECT_EQ(tears(0.5 * peak, peak), 1u);  // one wound where the jaws hold it, however long the pull
 }
 
 }  // namespace
