@@ -106,3 +106,46 @@ TEST(SimulationAllocation, MeshOnAWallAllocatesNothing) {
 
 }  // namespace
 }  // namespace trocar
+
+#include "trocar/mesh/generate.h"
+#include "trocar/mesh/instruments.h"
+
+namespace trocar {
+namespace {
+
+TEST(SimulationAllocation, BurningAndCoagulatingWithoutACutAllocatesNothing) {
+  // The live hook at 10 W drawn over a peritoneum at 20 mm/s: every 2 mm cell under it coagulates
+  // (its springs stiffened in place) but is left before it boils off. It goes out and back along
+  // the same path: the outward pass (burning only at its end, so that the first coagulation is
+  // behind it) brings the contact's buffers to their size; the return pass is counted.
+  World world;
+  FixedSelection fixed;
+  const TriMesh sheet = make_sheet(0.04, 0.04, 20, 20);
+  for (std::uint32_t v = 0; v < sheet.positions.size(); ++v)
+    if (std::abs(sheet.positions[v].x()) > 0.0199 || std::abs(sheet.positions[v].y()) > 0.0199) fixed.indices.push_back(v);
+  world.add_tissue("sheet", sheet, material_preset("peritoneum"), fixed, Vec3(0, 0, -9.81), IntegratorKind::kXpbd);
+  const Quat q(Eigen::AngleAxis<Real>(1.5707963267948966, Vec3::UnitZ()));
+  world.add_instrument("hook", Instrument(make_hook_probe().mesh, Vec3::UnitZ()),
+                       KeyframeMotion({{0, Vec3(0, -0.015, -0.0003), q, 0}, {1.5, Vec3(0, 0.01, -0.0003), q, 0},
+                                       {3.0, Vec3(0, -0.015, -0.0003), q, 0}}))
+      .electrode.power = 10;
+  Simulation sim(std::move(world), SimulationSettings{});
+  for (int n = 0; n < 1500; ++n) {
+    sim.set_energy(0, n >= 1100);
+    sim.step(1e-3);
+  }
+  ASSERT_GT(sim.world().tissues[0]->model_version, 0u);  // coagulated once already
+  const std::uint32_t version = sim.world().tissues[0]->model_version;
+  g_allocations = 0;
+  g_counting = true;
+  Real energy = 0;
+  for (int n = 0; n < 1500; ++n) energy += sim.step(1e-3).energy;
+  g_counting = false;
+  EXPECT_EQ(g_allocations.load(), 0);
+  EXPECT_GT(energy, 13.0);                                            // it burnt all along (15 J)
+  EXPECT_GT(sim.world().tissues[0]->model_version, version + 5);      // coagulating as it went
+  EXPECT_EQ(sim.burn_tally(0).cut_triangles, 0u);                     // never a cut (a rebuild)
+}
+
+}  // namespace
+}  // namespace trocar

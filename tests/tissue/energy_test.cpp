@@ -76,3 +76,31 @@ TEST(ElasticEnergyMeter, MatchesTheReferenceOnTheSharedLiver) {
 
 }  // namespace
 }  // namespace trocar
+
+namespace trocar {
+namespace {
+
+// Coagulation changes springs in place: the meter then measures what a meter built on the changed
+// settings measures.
+TEST(ElasticEnergyMeterSprings, InPlaceChangeMeasuresAsAFreshMeter) {
+  const TriMesh sheet = make_sheet(0.04, 0.04, 8, 8);
+  MassSpringSettings s = MassSpringSettings::build(sheet, material_preset("peritoneum"));
+  ElasticEnergyMeter in_place(s);
+  std::vector<Vec3> x = s.rest_positions;
+  for (Vec3& p : x) p *= 1.05;  // stretched: every spring stores energy
+  const Real before = in_place.elastic(x);
+  std::vector<std::uint32_t> changed;
+  for (std::uint32_t k = 0; k < s.springs.size(); k += 5) {
+    s.springs[k].stiffness *= 3;
+    s.springs[k].damping *= 2;
+    changed.push_back(k);
+  }
+  in_place.springs_changed(changed);
+  ElasticEnergyMeter fresh(s);
+  const Real after = in_place.elastic(x);
+  EXPECT_NEAR(after, fresh.elastic(x), 1e-12 * after);
+  EXPECT_GT(after, 1.2 * before);  // a fifth of the springs 3× as stiff: about 1.4×
+}
+
+}  // namespace
+}  // namespace trocar

@@ -15,6 +15,12 @@ void Simulation::size_burn(std::size_t t) {
   touched_[t].assign(n, 0);
   coagulated_[t].resize(n, 0);
   stiffened_[t].resize(tissue.settings.springs.size(), 0);
+  spring_of_[t].clear();
+  // A remodel's scratch holds any tissue's triangles and their edges without growing.
+  remodel_cut_.reserve(n);
+  remodel_coagulating_.reserve(n);
+  remodel_changed_.reserve(3 * n);
+  remodel_before_.reserve(3 * n);
 }
 
 BurnTally Simulation::burn_tally(std::size_t t) const {

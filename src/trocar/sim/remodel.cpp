@@ -25,7 +25,10 @@ void Simulation::remodel(std::size_t t) {
   TissueBody& old = *world_.tissues[t];
   const ThermalField& field = thermal_[t];
   const std::size_t old_triangles = old.settings.triangles.size();
-  std::vector<std::uint32_t> cut, coagulating;
+  std::vector<std::uint32_t>& cut = remodel_cut_;
+  std::vector<std::uint32_t>& coagulating = remodel_coagulating_;
+  cut.clear();
+  coagulating.clear();
   for (std::uint32_t k = 0; k < old_triangles; ++k) {
     if (field.cut(k)) cut.push_back(k);
     if (field.coagulated(k) && !coagulated_[t][k]) coagulating.push_back(k);
@@ -39,13 +42,17 @@ void Simulation::remodel(std::size_t t) {
 
   // Coagulation: the triangle's edge springs, once each, stiffer and at rest at their length now.
   MassSpringSettings& current = old.settings;  // springs changed in place when nothing is cut
-  std::vector<std::uint32_t> changed;
-  std::vector<Spring> springs_before;
+  std::vector<std::uint32_t>& changed = remodel_changed_;
+  std::vector<Spring>& springs_before = remodel_before_;
+  changed.clear();
+  springs_before.clear();
   if (!coagulating.empty()) {
-    std::unordered_map<std::uint64_t, std::uint32_t> spring_of;
-    spring_of.reserve(current.structural_count);
-    for (std::uint32_t s = 0; s < current.structural_count; ++s)
-      spring_of.emplace(pair_key(current.springs[s].i, current.springs[s].j, false), s);
+    std::unordered_map<std::uint64_t, std::uint32_t>& spring_of = spring_of_[t];
+    if (spring_of.empty()) {
+      spring_of.reserve(current.structural_count);
+      for (std::uint32_t s = 0; s < current.structural_count; ++s)
+        spring_of.emplace(pair_key(current.springs[s].i, current.springs[s].j, false), s);
+    }
     for (const std::uint32_t k : coagulating) {
       coagulated_[t][k] = 1;
       const Triangle& tri = current.triangles[k];
@@ -65,7 +72,7 @@ void Simulation::remodel(std::size_t t) {
   // Nothing cut and an integrator that takes new spring constants in place: no rebuild.
   if (cut.empty()) {
     if (old.integrator.springs_changed(changed)) {
-      old.energy.springs_changed();
+      old.energy.springs_changed(changed);
       ++old.model_version;
       return;
     }

@@ -174,6 +174,7 @@ Simulation::Simulation(World world, const SimulationSettings& settings)
   touched_.resize(nt);
   coagulated_.resize(nt);
   stiffened_.resize(nt);
+  spring_of_.resize(nt);
   burns_.resize(nt);
   next_remodel_.assign(nt, 0);
   bleeding_index_.assign(nt, -1);

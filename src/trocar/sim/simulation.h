@@ -5,6 +5,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "trocar/collision/broad_phase.h"
@@ -269,6 +270,12 @@ class Simulation {
   std::vector<std::vector<Real>> power_;                 ///< per tissue, per triangle: W this step
   std::vector<std::vector<std::uint8_t>> touched_;       ///< per tissue, per triangle: scratch
   std::vector<std::vector<std::uint8_t>> stiffened_;     ///< per tissue, per spring: coagulation applied
+  /// Per tissue: structural spring by its edge (sorted vertex pair), built at the first
+  /// coagulation of each model (a cut clears it).
+  std::vector<std::unordered_map<std::uint64_t, std::uint32_t>> spring_of_;
+  /// Scratch of a remodel (kept: coagulating without a cut allocates nothing once warm).
+  std::vector<std::uint32_t> remodel_cut_, remodel_coagulating_, remodel_changed_;
+  std::vector<Spring> remodel_before_;
   std::vector<std::vector<std::uint8_t>> coagulated_;    ///< per tissue, per triangle: counted as coagulated
   std::vector<BurnTally> burns_;                         ///< per tissue
   std::vector<Real> next_remodel_;                       ///< per tissue: earliest time of its next remodel (s)

@@ -14,8 +14,8 @@ ElasticEnergyMeter::ElasticEnergyMeter(const MassSpringSettings& settings) : set
   use_avx2_ = cpu_has_avx2_fma();
 }
 
-void ElasticEnergyMeter::springs_changed() {
-  springs_ = tissue_detail::make_spring_layout(settings_.springs, settings_.vertex_count());
+void ElasticEnergyMeter::springs_changed(std::span<const std::uint32_t> springs) {
+  for (const std::uint32_t s : springs) tissue_detail::set_spring_constants(springs_, s, settings_.springs[s]);
 }
 
 Real ElasticEnergyMeter::elastic(std::span<const Vec3> x) {

@@ -21,8 +21,9 @@ class ElasticEnergyMeter {
   /// gravity off, to rounding.
   Real elastic(std::span<const Vec3> x);
 
-  /// The settings' springs changed (stiffness, rest length): lays them out again. Allocates.
-  void springs_changed();
+  /// The settings' springs `springs` changed stiffness, rest length or damping: copies them
+  /// again, in place. No allocation.
+  void springs_changed(std::span<const std::uint32_t> springs);
 
   /// Runs the portable passes even where the CPU has AVX2 (for tests and comparisons).
   void set_simd(bool on) { use_avx2_ = on && cpu_has_avx2_fma(); }

@@ -210,6 +210,7 @@ SpringLayout make_spring_layout(const std::vector<Spring>& all_springs, std::siz
   }
   std::vector<std::uint8_t> placed(springs.size(), 0);
   SpringLayout layout;
+  layout.where.assign(springs.size(), 0);
   std::vector<std::uint32_t> open;
   for (std::size_t v = 0; v < vertex_count; ++v) {
     open.clear();
@@ -221,14 +222,28 @@ SpringLayout make_spring_layout(const std::vector<Spring>& all_springs, std::siz
         const Spring& sp = springs[open[k + m]];
         put(q, m, sp, sp.i != v);
         placed[open[k + m]] = 1;
+        layout.where[open[k + m]] = static_cast<std::uint32_t>(4 * (layout.stars.size() - 1) + m);
       }
     }
   }
   std::vector<Spring> rest;
   for (std::size_t e = 0; e < springs.size(); ++e)
-    if (!placed[e]) rest.push_back(springs[e]);
+    if (!placed[e]) {
+      layout.where[e] = static_cast<std::uint32_t>(rest.size()) | SpringLayout::kInOthers;
+      rest.push_back(springs[e]);
+    }
   layout.others = make_spring_quads(rest);
   return layout;
+}
+
+void set_spring_constants(SpringLayout& layout, std::size_t s, const Spring& spring) {
+  if (s >= layout.where.size()) return;
+  const std::uint32_t w = layout.where[s];
+  const std::uint32_t slot = w & ~SpringLayout::kInOthers;
+  SpringQuad& q = (w & SpringLayout::kInOthers) ? layout.others[slot / 4] : layout.stars[slot / 4];
+  q.rest_length[slot % 4] = spring.rest_length;
+  q.stiffness[slot % 4] = spring.stiffness;
+  q.damping[slot % 4] = spring.damping;
 }
 
 void PaddedArrays::allocate(std::size_t n, std::size_t count) {

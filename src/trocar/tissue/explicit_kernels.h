@@ -73,7 +73,14 @@ std::vector<SpringQuad> make_spring_quads(const std::vector<Spring>& springs);
 struct SpringLayout {
   std::vector<SpringQuad> stars;
   std::vector<SpringQuad> others;
+  /// Per spring of a layout made without `fixed`: where it went, 4 × quad + lane, with kInOthers
+  /// set for `others` (set_spring_constants uses it).
+  std::vector<std::uint32_t> where;
+  static constexpr std::uint32_t kInOthers = 1u << 31;
 };
+/// Copies spring s's rest length, stiffness and damping into the layout, in place (its vertices
+/// are unchanged). For a layout made without `fixed`. No allocation.
+void set_spring_constants(SpringLayout& layout, std::size_t s, const Spring& spring);
 /// With `fixed` (1 per fixed vertex), the springs between two fixed vertices are left out: their
 /// forces only act on vertices that never move (on the liver bench, 5 % of the springs).
 SpringLayout make_spring_layout(const std::vector<Spring>& springs, std::size_t vertex_count,
