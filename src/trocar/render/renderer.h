@@ -9,6 +9,7 @@
 #include <memory>
 #include <vector>
 
+#include "trocar/render/effects_view.h"
 #include "trocar/scene/camera.h"
 #include "trocar/scene/appearance.h"
 #include "trocar/sim/view_snapshot.h"
@@ -31,6 +32,12 @@ struct RenderOptions {
   Real force_scale = 0.01;    ///< arrow length per newton (m/N)
   Real gauge_max = 5;         ///< force at a full gauge (N)
   Real light_range = 0;       ///< headlight half-intensity distance (m); 0 = from the scene's size
+  /// What electrosurgery and bleeding did (docs/electrosurgery.md "What is drawn"): burns, the
+  /// blood's flow over the bleeding tissues, smoke. Off: tissue is drawn as if nothing had burnt
+  /// or bled, and the blood and smoke wait (the blood is fed what it missed when turned back on).
+  bool effects = true;
+  bool smoke = true;          ///< the smoke (with effects)
+  bool venting = false;       ///< a port's stopcock open: the smoke clears faster (SmokeField::set_venting)
 };
 
 /// How the scene's objects look (Scene::textures, tissue_appearance, rigid_appearance); a
@@ -58,9 +65,18 @@ class Renderer {
 
   /// Draws into the bound framebuffer's viewport (0, 0, width, height), clearing it first:
   /// opaque objects, then the tacks, then translucent objects (opacity < 1) far to near with
-  /// depth writes off, then the overlays.
+  /// depth writes off, then the smoke, then the overlays.
+  ///
+  /// A tissue whose model changed (a cut: snapshot.tissue_versions moved) has its buffers rebuilt
+  /// from snapshot.tissue_triangles and tissue_rest first. Before drawing, the blood and smoke are
+  /// brought up to the snapshot's time (effects()): consecutive snapshots are a run's frames; a
+  /// snapshot earlier than the last one starts them afresh. Drawing the same snapshot again
+  /// changes nothing.
   void draw(const ViewSnapshot& snapshot, const CameraView& camera, const RenderOptions& options, int width,
             int height);
+
+  /// The blood and smoke kept between frames (read-only: for tests and statistics).
+  const EffectsView& effects() const;
 
  private:
   struct Gpu;
