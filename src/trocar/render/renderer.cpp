@@ -493,7 +493,7 @@ class SplatLevels {
     }
   }
 
-  /// A puff at (x, y) of radius r (level-0 pixels; r ≥ 0.5) and centre alpha α: α (1 − ρ²)² over
+  /// A puff at (x, y) of radius r (level-0 pixels) and centre alpha α: α (1 − ρ²)² over
   /// its disc, as τ = −ln(1 − alpha), with its light and distance.
   void splat(float x, float y, float r, float alpha, float light, float distance) {
     int l = 0;
@@ -633,7 +633,7 @@ void vertex_normals(const std::vector<Vec3>& positions, const std::vector<Triang
 constexpr int kSmokeRows = 72;
 /// Smoke's albedo (grey-white, linear); the cavity's darkness (the clear colour, as stored) and
 /// its linear value.
-const Eigen::Vector3f kSmokeColour(0.80f, 0.80f, 0.78f);
+const Eigen::Vector3f kSmokeColour(0.64f, 0.64f, 0.62f);
 const Eigen::Vector3f kBackground(0.035f, 0.012f, 0.010f);
 const Eigen::Vector3f kBackgroundLinear(6.27e-4f, 5.87e-5f, 3.98e-5f);
 
@@ -1150,11 +1150,12 @@ bool Renderer::Gpu::prepare_smoke(const CameraView& cam, int width, int height) 
     if (!(clip.w() > float(cam.near_clip))) continue;  // behind the scope's lens
     const float cx = (0.5f * clip.x() / clip.w() + 0.5f) * float(width) * scale;
     const float cy = (0.5f * clip.y() / clip.w() + 0.5f) * float(height) * scale;
-    const float r = std::max(0.5f, std::min(float(p.radius) * 0.5f * float(height) * scale * p11 / clip.w(), float(fh)));
+    const float radius = std::min(float(p.radius) * 0.5f * float(height) * scale * p11 / clip.w(), float(fh));
+    const float r = std::max(radius, 0.5f);  // as splatted
     if (cx + r < 0 || cx - r > float(fw) || cy + r < 0 || cy - r > float(fh)) continue;
     const float distance = (at - frame.eye).norm();
     const float light = 1.0f / (1.0f + distance * distance / range2);  // the headlight's falloff
-    splat.splat(cx, cy, r, float(p.opacity), light, distance);
+    splat.splat(cx, cy, radius, float(p.opacity), light, distance);
     any = true;
     x0 = std::min(x0, (cx - r) / scale), x1 = std::max(x1, (cx + r) / scale);
     y0 = std::min(y0, (cy - r) / scale), y1 = std::max(y1, (cy + r) / scale);
@@ -1168,7 +1169,7 @@ bool Renderer::Gpu::prepare_smoke(const CameraView& cam, int width, int height) 
   smoke_box = {std::max(0.0f, std::floor(x0)), std::max(0.0f, std::floor(y0)), std::min(float(width), std::ceil(x1)),
                std::min(float(height), std::ceil(y1))};
   // Per texel: τ log2 e (the shader's exp2), the light, the mean distance and 1 / (2√3 σ) (the
-  // distances taken as uniform over mean ± √3 σ; σ at least 1 mm).
+  // distances taken as uniform over mean ± √3 σ; σ plus 1 mm, so a single puff has a depth).
   // The backdrop: the smoke over the clear colour, vignetted as the mesh shader does, encoded.
   field.resize(4 * texels);
   backdrop.resize(4 * texels);

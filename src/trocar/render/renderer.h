@@ -2,8 +2,11 @@
 /// The OpenGL 3.3 core renderer (docs/render.md). It draws a ViewSnapshot — never the live
 /// Simulation — so it runs on its own thread at its own rate. Tissue normals are recomputed from
 /// the deformed positions every frame; tissue gets a procedural solid texture (mottling, fat,
-/// vessels) on its rest positions and the wet look of a headlight; instruments are steel. Needs a
-/// current GL context (render/offscreen.h or a window) for its whole life.
+/// vessels) on its rest positions and the wet look of a headlight; instruments are steel. What
+/// electrosurgery and bleeding did is drawn too (docs/electrosurgery.md "What is drawn"): a cut
+/// tissue's buffers follow its new model, burns and blood colour the triangles they touch, and
+/// the blood's flow and the smoke run on the render side (effects_view.h). Needs a current GL
+/// context (render/offscreen.h or a window) for its whole life.
 #include <cstdint>
 #include <filesystem>
 #include <memory>
