@@ -17,13 +17,19 @@ ThermalField::ThermalField(const ThermalProperties& properties, std::span<const 
   temperature_.assign(n, properties.body_temperature);
   damage_.assign(n, 0.0);
   vaporised_.assign(n, 0.0);
+  build(triangles, rest_positions, rest_areas);
+}
+
+void ThermalField::build(std::span<const Triangle> triangles, std::span<const Vec3> rest_positions,
+                         std::span<const Real> rest_areas) {
+  const std::size_t n = triangles.size();
   capacity_.resize(n);
   vapour_energy_.resize(n);
   heat_.assign(n, 0.0);
   for (std::size_t t = 0; t < n; ++t) {
-    const Real mass = properties.density * rest_areas[t] * properties.heated_depth;
-    capacity_[t] = mass * properties.specific_heat;
-    vapour_energy_[t] = mass * properties.water_fraction * properties.latent_heat;
+    const Real mass = properties_.density * rest_areas[t] * properties_.heated_depth;
+    capacity_[t] = mass * properties_.specific_heat;
+    vapour_energy_[t] = mass * properties_.water_fraction * properties_.latent_heat;
   }
   build_conduction(triangles, rest_positions);
 }
@@ -127,15 +133,7 @@ void ThermalField::remap(std::span<const std::uint32_t> origin, std::span<const 
   temperature_ = std::move(temperature);
   damage_ = std::move(damage);
   vaporised_ = std::move(vaporised);
-  capacity_.resize(n);
-  vapour_energy_.resize(n);
-  heat_.assign(n, 0.0);
-  for (std::size_t t = 0; t < n; ++t) {
-    const Real mass = properties_.density * rest_areas[t] * properties_.heated_depth;
-    capacity_[t] = mass * properties_.specific_heat;
-    vapour_energy_[t] = mass * properties_.water_fraction * properties_.latent_heat;
-  }
-  build_conduction(triangles, rest_positions);
+  build(triangles, rest_positions, rest_areas);
 }
 
 Real ThermalField::stored() const {

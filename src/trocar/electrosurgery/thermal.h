@@ -92,6 +92,9 @@ class ThermalField {
   const ThermalProperties& properties() const { return properties_; }
 
  private:
+  /// Heat capacities and vapour energies from the rest areas, and the conduction links.
+  void build(std::span<const Triangle> triangles, std::span<const Vec3> rest_positions,
+             std::span<const Real> rest_areas);
   void build_conduction(std::span<const Triangle> triangles, std::span<const Vec3> rest_positions);
 
   ThermalProperties properties_;

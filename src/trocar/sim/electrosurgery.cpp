@@ -7,6 +7,23 @@
 #include "trocar/sim/simulation.h"
 
 namespace trocar {
+namespace {
+
+/// The index of the point of `points` (not empty) nearest p.
+std::uint32_t nearest_vertex(std::span<const Vec3> points, const Vec3& p) {
+  std::uint32_t nearest = 0;
+  Real best = std::numeric_limits<Real>::infinity();
+  for (std::uint32_t v = 0; v < points.size(); ++v) {
+    const Real d = (points[v] - p).squaredNorm();
+    if (d < best) {
+      best = d;
+      nearest = v;
+    }
+  }
+  return nearest;
+}
+
+}  // namespace
 
 void Simulation::size_burn(std::size_t t) {
   const TissueBody& tissue = *world_.tissues[t];
@@ -120,16 +137,7 @@ void Simulation::open_wound(std::size_t t, const Vec3& rest) {
         w.vertex < tissue.settings.vertex_count() &&
         (tissue.settings.rest_positions[w.vertex] - rest).norm() < kSamePoint)
       return;
-  std::uint32_t nearest = 0;
-  Real best = std::numeric_limits<Real>::infinity();
-  for (std::uint32_t v = 0; v < tissue.settings.vertex_count(); ++v) {
-    const Real d = (tissue.settings.rest_positions[v] - rest).squaredNorm();
-    if (d < best) {
-      best = d;
-      nearest = v;
-    }
-  }
-  bleeding_.open_wound(b, nearest, *tissue.bleeds, bleeding_.time());
+  bleeding_.open_wound(b, nearest_vertex(tissue.settings.rest_positions, rest), *tissue.bleeds, bleeding_.time());
 }
 
 void Simulation::bleed(Real dt) {
@@ -153,17 +161,8 @@ void Simulation::bleed(Real dt) {
     if (!(tissue.tear_force > 0)) continue;
     for (std::size_t i = 0; i < loads_.size(); ++i) {
       if (responses_[t]->held_vertices(i) == 0 || tissue_force(t, i).norm() <= tissue.tear_force) continue;
-      const Vec3 at = world_.instruments[i].instrument.pose().translation;
-      std::uint32_t nearest = 0;
-      Real best = std::numeric_limits<Real>::infinity();
-      for (std::uint32_t v = 0; v < tissue.state.positions.size(); ++v) {
-        const Real d = (tissue.state.positions[v] - at).squaredNorm();
-        if (d < best) {
-          best = d;
-          nearest = v;
-        }
-      }
-      open_wound(t, tissue.settings.rest_positions[nearest]);
+      const Vec3& at = world_.instruments[i].instrument.pose().translation;
+      open_wound(t, tissue.settings.rest_positions[nearest_vertex(tissue.state.positions, at)]);
     }
   }
   bleeding_.step({}, Vec3::Zero(), dt);
