@@ -147,6 +147,8 @@ Simulation::Simulation(World world, const SimulationSettings& settings)
   // Electrosurgery: each electrode's vertices (from the tip end along the shaft, the tip → top
   // vertex direction), each tissue's thermal state.
   energy_on_.assign(ni, 0);
+  suction_on_.assign(ni, 0);
+  irrigation_on_.assign(ni, 0);
   electrode_.resize(ni);
   std::size_t most = 0;
   for (std::size_t i = 0; i < ni; ++i) {
@@ -214,6 +216,8 @@ std::size_t Simulation::exchange(std::size_t i) {
     if (port_of_[j] == group) in = j;
   }
   if (in == out) return out;
+  // What leaves the body leaves with its pedal up and its valves shut.
+  energy_on_[out] = suction_on_[out] = irrigation_on_[out] = 0;
   phase_[out] = PortPhase::kWithdrawing;
   phase_[in] = PortPhase::kInserting;
   port_active_[group] = in;

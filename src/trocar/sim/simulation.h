@@ -140,6 +140,16 @@ class Simulation {
   /// coagulates and, where its water boils off, is cut open. No allocation.
   void set_energy(std::size_t i, bool on) { energy_on_[i] = on ? 1 : 0; }
   bool energy_on(std::size_t i) const { return energy_on_[i] != 0; }
+  /// The valves of instrument i's suction-irrigator (InstrumentBody::suction): what they draw in
+  /// and jet out is the renderer's (the blood's flow is; docs/electrosurgery.md). Set here so that
+  /// recordings, replays and reports carry them. An instrument without that valve ignores it.
+  /// No allocation.
+  void set_suction(std::size_t i, bool on) { suction_on_[i] = on && world_.instruments[i].suction.suction() ? 1 : 0; }
+  bool suction_on(std::size_t i) const { return suction_on_[i] != 0; }
+  void set_irrigation(std::size_t i, bool on) {
+    irrigation_on_[i] = on && world_.instruments[i].suction.irrigation() ? 1 : 0;
+  }
+  bool irrigation_on(std::size_t i) const { return irrigation_on_[i] != 0; }
   /// Opens tissue t's triangles now (scissors, a scripted cut, a test): they are removed as a cut
   /// by the electrode removes them (the tissue remodelled at once). Indices out of range are
   /// ignored. Allocates.
@@ -257,6 +267,7 @@ class Simulation {
   void admit_tissues();
   // Electrosurgery (docs/electrosurgery.md).
   std::vector<std::uint8_t> energy_on_;                  ///< per instrument: pedal down
+  std::vector<std::uint8_t> suction_on_, irrigation_on_; ///< per instrument: valve open
   std::vector<std::vector<Vec3>> electrode_;             ///< per instrument: its electrode's points (local)
   /// What an electrode touched this step: tissue, triangle, its share of the power (W).
   struct Touch {

@@ -69,6 +69,12 @@ void capture_view(const Simulation& sim, ViewSnapshot& out) {
     v.force = i < metrics.size() ? metrics[i].force : Vec3::Zero();
     v.contact_centre = Vec3::Zero();
     v.contacts = 0;
+    v.tip = inst.pose().translation;
+    const Vec3 back = inst.top_world() - v.tip;
+    v.forward = back.norm() > 0 ? Vec3(-back.normalized()) : Vec3::UnitZ();
+    v.suction_spec = world.instruments[i].suction;
+    v.suction = sim.suction_on(i) && !sim.parked(i);
+    v.irrigation = sim.irrigation_on(i) && !sim.parked(i);
   }
   // Object order in contacts: instruments, then tissues, then rigids (Simulation's objects_).
   const std::size_t nt = world.tissues.size();

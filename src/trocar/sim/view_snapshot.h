@@ -23,6 +23,13 @@ struct InstrumentView {
   Vec3 force = Vec3::Zero();    ///< force the device renders (N, on the instrument)
   Vec3 contact_centre = Vec3::Zero();  ///< mean of its contact points (m); pose origin when none
   std::uint32_t contacts = 0;   ///< instrument–tissue contacts this step
+  Vec3 tip = Vec3::Zero();      ///< m: the working tip (the mesh's local origin)
+  Vec3 forward = Vec3::UnitZ(); ///< unit: along the shaft, from the handle toward the tip
+  /// Its suction-irrigator (InstrumentBody::suction) and its valves this step: the renderer draws
+  /// fluid and smoke in at the tip and jets saline along `forward` (EffectsView).
+  SuctionSpec suction_spec;
+  bool suction = false;
+  bool irrigation = false;
 };
 
 /// One instrument–tissue contact as drawn: the midpoint of the two triangles' intersection

@@ -12,6 +12,7 @@
 #include "trocar/core/motion.h"
 #include "trocar/electrosurgery/bleeding.h"
 #include "trocar/electrosurgery/electrode.h"
+#include "trocar/electrosurgery/suction.h"
 #include "trocar/electrosurgery/thermal.h"
 #include "trocar/tissue/energy.h"
 #include "trocar/tissue/integrator.h"
@@ -87,6 +88,10 @@ struct InstrumentBody {
   /// Its electrode (scene key "electrode"; power 0: none): with the pedal down
   /// (Simulation::set_energy) it heats the tissue it touches.
   ElectrodeSpec electrode;
+  /// Its suction and irrigation (scene key "suction"; flows 0: none): while a valve is open
+  /// (Simulation::set_suction, set_irrigation) it draws fluid and smoke in at the tip, or jets
+  /// saline out of it (drawn and flowed by the renderer: docs/electrosurgery.md).
+  SuctionSpec suction;
 };
 
 /// Static geometry (role kRigid): bones, a table, ports. Only detected, never moved.
