@@ -222,7 +222,7 @@ TEST(BloodFilm, BeneathAnOverhangTheExcessOverTheMaximumThicknessDrips) {
   EXPECT_EQ(film.thickness(b), 1e-3);
 }
 
-TEST(BloodFilm, StainIsMonotoneAndZeroWhereNoBloodCame) {
+TEST(BloodFilm, WithoutSalineTheStainIsMonotoneAndZeroWhereNoBloodCame) {
   const Sheet sheet = grid(20, 20, 2e-3, incline(0.4));
   BloodFilm film(sheet.triangles, sheet.x);
   const std::uint32_t wound = sheet.at(4, 10);
@@ -252,6 +252,75 @@ TEST(BloodFilm, StainIsMonotoneAndZeroWhereNoBloodCame) {
   film.remove_within(sheet.x, sheet.x[sheet.at(12, 10)], 1e-2, 1.0);
   EXPECT_EQ(film.film()[sheet.at(12, 10)], 0.0);
   EXPECT_EQ(film.stain()[sheet.at(12, 10)], stained);
+}
+
+TEST(BloodFilm, SalineArrivingWashesTheStainByTheStatedFactor) {
+  // One vertex of a flat sheet (no flow): blood of 40 µm over its area, then 0.5 mm of saline.
+  const Sheet sheet = grid(4, 4, 2e-3, [](Real u, Real v) { return Vec3(u, v, 0); });
+  FilmProperties p;
+  BloodFilm film(sheet.triangles, sheet.x, p);
+  const std::uint32_t v = sheet.at(2, 2);
+  const Real area = film.area()[v];
+  EXPECT_NEAR(area, 4e-6, 1e-18);  // six triangles of 2 mm² around an interior vertex, a third each
+  film.add(v, 40e-6 * area);
+  EXPECT_NEAR(film.stain()[v], 1 - std::exp(-40e-6 / p.stain_thickness), 1e-12);
+  film.add_saline(v, 0.5e-3 * area);
+  // D = 40 µm · e^(−0.5 mm / 1 mm); stain 1 − e^(−D / 50 µm).
+  const Real d = 40e-6 * std::exp(-0.5e-3 / p.wash_thickness);
+  EXPECT_NEAR(film.arrived()[v], d, 1e-15);
+  EXPECT_NEAR(film.stain()[v], 1 - std::exp(-d / p.stain_thickness), 1e-12);
+  EXPECT_NEAR(film.blood()[v], 40e-6 * area, 1e-24);
+  EXPECT_NEAR(film.film()[v], 540e-6 * area, 1e-24);
+}
+
+TEST(BloodFilm, SuctionTakesBloodInProportionToTheMixture) {
+  const Sheet sheet = grid(4, 4, 2e-3, [](Real u, Real v) { return Vec3(u, v, 0); });
+  BloodFilm film(sheet.triangles, sheet.x);
+  const std::uint32_t v = sheet.at(2, 2);
+  film.add(v, 3e-9);
+  film.add_saline(v, 1e-9);
+  Real blood = 0;
+  // Half of the 4e-9 within reach: 1.5e-9 of blood with it.
+  EXPECT_NEAR(film.remove_within(sheet.x, sheet.x[v], 1e-3, 2e-9, &blood), 2e-9, 1e-24);
+  EXPECT_NEAR(blood, 1.5e-9, 1e-24);
+  EXPECT_NEAR(film.blood()[v], 1.5e-9, 1e-24);
+  EXPECT_NEAR(film.film()[v], 2e-9, 1e-24);
+}
+
+TEST(BloodFilm, SalineRunsFasterThanBloodAndEachIsConserved) {
+  // The same volume, once blood and once saline, down a 20° plane: the Nusselt speed goes as 1/μ,
+  // so saline (0.7 mPa·s) runs ahead of blood (3.5 mPa·s). Then a mixture: each part conserved.
+  const Sheet sheet = grid(40, 6, 2e-3, incline(20 * std::numbers::pi / 180));
+  const std::uint32_t source = sheet.at(2, 3);
+  const auto mean_drop = [&](const BloodFilm& f) {
+    Real zv = 0, v = 0;
+    for (std::size_t i = 0; i < f.size(); ++i) zv += f.film()[i] * sheet.x[i].z(), v += f.film()[i];
+    return sheet.x[source].z() - zv / v;
+  };
+  BloodFilm blood(sheet.triangles, sheet.x), saline(sheet.triangles, sheet.x);
+  blood.add(source, 8e-10);  // 0.2 mm over its 4 mm²
+  saline.add_saline(source, 8e-10);
+  for (int step = 0; step < 200; ++step) {
+    blood.step(sheet.x, kGravity, 1e-3);
+    saline.step(sheet.x, kGravity, 1e-3);
+  }
+  EXPECT_GT(mean_drop(saline), 2 * mean_drop(blood));
+  EXPECT_EQ(saline.blood_volume(), 0.0);
+
+  BloodFilm mix(sheet.triangles, sheet.x);
+  Real blood_in = 0, saline_in = 0;
+  for (int step = 0; step < 3000; ++step) {
+    if (step < 1000) mix.add(source, 1e-11), blood_in += 1e-11;
+    if (step >= 500 && step < 2000) mix.add_saline(sheet.at(1, 3), 3e-11), saline_in += 3e-11;
+    mix.step(sheet.x, kGravity, 1e-3);
+    for (std::size_t i = 0; i < mix.size(); ++i) {
+      ASSERT_GE(mix.blood()[i], 0.0);
+      ASSERT_LE(mix.blood()[i], mix.film()[i] * (1 + 1e-9) + 1e-30);
+    }
+  }
+  EXPECT_GT(mix.dripped(), 0.5 * (blood_in + saline_in));  // most ran off the bottom border
+  EXPECT_NEAR((mix.blood_volume() + mix.dripped_blood()) / blood_in, 1.0, 1e-12);
+  EXPECT_NEAR((mix.volume() + mix.dripped()) / (blood_in + saline_in), 1.0, 1e-12);
 }
 
 // A topology change as a cut makes one: the grid's row j = `row` is split (the triangles below it
@@ -447,6 +516,7 @@ TEST(Bleeding, VolumeIsConservedAcrossWoundsFlowDripsSuctionAndACut) {
       EXPECT_TRUE(moved == 0u || moved == 40u) << moved;
     }
     if (step % 10 == 0) bleeding.suction(1, bowl.x, bowl.x[bowl.at(3, 3)], 5e-3, 2e-8, 10 * dt);
+    if (step >= 3000 && step < 3500) bleeding.irrigate(1, bowl.at(2, 2), 1e-10);
     if (step == 4000) bleeding.coagulate(v, 5.0, dt);
     bleeding.step(positions, kGravity, dt);
   }
@@ -455,8 +525,13 @@ TEST(Bleeding, VolumeIsConservedAcrossWoundsFlowDripsSuctionAndACut) {
   EXPECT_GT(bleeding.suctioned(), 0.0);
   EXPECT_GT(bleeding.film(2).dripped(), 0.0);
   EXPECT_GT(bleeding.volume(), 0.0);
+  EXPECT_GT(bleeding.suctioned_blood(), 0.0);
+  EXPECT_LT(bleeding.suctioned_blood(), bleeding.suctioned());  // saline with it
+  EXPECT_NEAR(bleeding.irrigated(), 500 * 1e-10, 1e-18);
   const Real total = bleeding.volume() + bleeding.pool() + bleeding.suctioned();
-  EXPECT_NEAR(total / bleeding.emitted(), 1.0, 1e-9);
+  EXPECT_NEAR(total / (bleeding.emitted() + bleeding.irrigated()), 1.0, 1e-9);
+  const Real blood = bleeding.blood_volume() + bleeding.pool_blood() + bleeding.suctioned_blood();
+  EXPECT_NEAR(blood / bleeding.emitted(), 1.0, 1e-9);
 }
 
 }  // namespace

@@ -20,6 +20,7 @@ BloodFilm::BloodFilm(std::span<const Triangle> triangles, std::span<const Vec3> 
     : properties_(properties) {
   build(triangles, rest_positions);
   film_.assign(rest_positions.size(), 0.0);
+  blood_.assign(rest_positions.size(), 0.0);
   arrived_.assign(rest_positions.size(), 0.0);
   stain_.assign(rest_positions.size(), 0.0);
 }
@@ -79,29 +80,75 @@ void BloodFilm::build(std::span<const Triangle> triangles, std::span<const Vec3>
   mobile_.assign(n, 0.0);
   drive_.assign(n, 0.0);
   surface_.assign(n, 0.0);
+  fraction_.assign(n, 0.0);
+  drip_.assign(n, 0.0);
+  drip_blood_.assign(n, 0.0);
+  dripping_ = false;
   length_.assign(edges_.size(), 0.0);
   flux_.assign(edges_.size(), 0.0);
   cap_.assign(edges_.size(), 0.0);
 }
 
-void BloodFilm::add(std::uint32_t vertex, Real volume) {
+void BloodFilm::add_mixture(std::uint32_t vertex, Real volume, Real blood) {
   if (!(volume > 0)) return;
+  blood = std::clamp(blood, 0.0, volume);
   if (vertex >= film_.size() || !(area_[vertex] > 0)) {
     dripped_ += volume;
+    dripped_blood_ += blood;
     return;
   }
   film_[vertex] += volume;
-  arrived_[vertex] += volume / area_[vertex];
-  stain_[vertex] = std::max(stain_[vertex], 1 - std::exp(-arrived_[vertex] / properties_.stain_thickness));
+  blood_[vertex] += blood;
+  wet_ = true;
+  arrive(vertex, volume, blood);
+  stain_[vertex] = 1 - std::exp(-arrived_[vertex] / properties_.stain_thickness);
+}
+
+void BloodFilm::arrive(std::size_t i, Real volume, Real blood) {
+  const Real saline = volume - blood;
+  if (saline > 0) arrived_[i] *= std::exp(-saline / area_[i] / properties_.wash_thickness);
+  arrived_[i] += blood / area_[i];
+}
+
+Real BloodFilm::take(std::size_t i, Real volume) {
+  const Real blood = film_[i] > 0 ? blood_[i] * std::min(1.0, volume / film_[i]) : 0.0;
+  film_[i] -= volume;
+  blood_[i] = std::max(0.0, blood_[i] - blood);  // ≥ 0 against rounding
+  return blood;
+}
+
+void BloodFilm::shed(std::size_t i, Real volume, Real blood) {
+  dripped_ += volume;
+  dripped_blood_ += blood;
+  drip_[i] += volume;
+  drip_blood_[i] += blood;
+  dripping_ = true;
+}
+
+void BloodFilm::clear_drips() {
+  if (!dripping_) return;
+  std::fill(drip_.begin(), drip_.end(), 0.0);
+  std::fill(drip_blood_.begin(), drip_blood_.end(), 0.0);
+  dripping_ = false;
 }
 
 Real BloodFilm::thickness(std::size_t vertex) const {
   return area_[vertex] > 0 ? film_[vertex] / area_[vertex] : 0.0;
 }
 
+Real BloodFilm::blood_thickness(std::size_t vertex) const {
+  return area_[vertex] > 0 ? blood_[vertex] / area_[vertex] : 0.0;
+}
+
 Real BloodFilm::volume() const {
   Real sum = 0;
   for (Real v : film_) sum += v;
+  return sum;
+}
+
+Real BloodFilm::blood_volume() const {
+  Real sum = 0;
+  for (Real v : blood_) sum += v;
   return sum;
 }
 
@@ -112,16 +159,15 @@ void BloodFilm::shed_overhangs() {
     if (!(down_[i] > 0)) continue;
     const Real limit = h_max / std::sqrt(down_[i]) * area_[i];
     if (film_[i] > limit) {
-      dripped_ += film_[i] - limit;
-      film_[i] = limit;
+      const Real excess = film_[i] - limit;
+      shed(i, excess, take(i, excess));
     }
   }
 }
 
 void BloodFilm::update_stain() {
   const Real scale = properties_.stain_thickness;
-  for (std::size_t i = 0; i < stain_.size(); ++i)
-    if (arrived_[i] > 0) stain_[i] = std::max(stain_[i], 1 - std::exp(-arrived_[i] / scale));
+  for (std::size_t i = 0; i < stain_.size(); ++i) stain_[i] = 1 - std::exp(-arrived_[i] / scale);
 }
 
 void BloodFilm::step(std::span<const Vec3> positions, const Vec3& gravity, Real dt) {
@@ -132,6 +178,7 @@ void BloodFilm::step(std::span<const Vec3> positions, const Vec3& gravity, Real 
   const FilmProperties& p = properties_;
   const Real h_r = p.residual_thickness, h_max = p.max_thickness;
   // A film no thicker than the residual layer anywhere: nothing to do (the usual case).
+  if (!wet_) return;
   bool mobile = false;
   for (std::size_t i = 0; i < n && !mobile; ++i) mobile = film_[i] > h_r * area_[i];
   if (!mobile) return;
@@ -139,7 +186,8 @@ void BloodFilm::step(std::span<const Vec3> positions, const Vec3& gravity, Real 
   // The geometry of this step: heights along gravity, which way each vertex faces, edge lengths,
   // and the open border's outflow widths.
   const Vec3 down = gravity / g;
-  const Real k = p.density * g / (3 * p.viscosity);  // 1/(m·s): q = k s h³
+  // 1/(m·s): q = k s h³, k = ρ g / (3 μ) with μ the mixture's (blood fraction f: linear in f).
+  const Real k_blood = p.density * g / (3 * p.viscosity), k_saline = p.density * g / (3 * p.saline_viscosity);
   std::fill(normal_.begin(), normal_.end(), Vec3::Zero());
   for (const Triangle& t : triangles_) {
     if (t[0] >= n || t[1] >= n || t[2] >= n) continue;
@@ -181,6 +229,9 @@ void BloodFilm::step(std::span<const Vec3> positions, const Vec3& gravity, Real 
       const Real a = area_[i];
       mobile_[i] = a > 0 ? std::max(0.0, film_[i] - h_r * a) : 0.0;
       const Real h_m = a > 0 ? mobile_[i] / a : 0.0;
+      fraction_[i] = film_[i] > 0 ? std::min(1.0, blood_[i] / film_[i]) : 0.0;
+      const Real viscosity = p.saline_viscosity + (p.viscosity - p.saline_viscosity) * fraction_[i];
+      const Real k = fraction_[i] == 1 ? k_blood : fraction_[i] == 0 ? k_saline : p.density * g / (3 * viscosity);
       drive_[i] = k * h_m * h_m * h_m;
       any |= drive_[i] > 0;
       surface_[i] = depth_[i] - (a > 0 && up_[i] > 0 ? up_[i] * std::max(0.0, film_[i] / a - h_max) : 0.0);
@@ -224,17 +275,21 @@ void BloodFilm::step(std::span<const Vec3> positions, const Vec3& gravity, Real 
       scale_[i] = std::min(1.0, mobile_[i] / (out_[i] * h));
       if (!(border_width_[i] > 0)) continue;
       const Real v = std::min(drive_[i] * border_width_[i] * h * scale_[i], mobile_[i]);
-      film_[i] -= v;
-      dripped_ += v;
+      shed(i, v, take(i, v));
     }
     for (std::size_t e = 0; e < edges_.size(); ++e) {
       if (flux_[e] == 0) continue;
       const Edge& edge = edges_[e];
       const std::uint32_t from = flux_[e] > 0 ? edge.a : edge.b, to = flux_[e] > 0 ? edge.b : edge.a;
       const Real v = std::min(std::abs(flux_[e]) * h * scale_[from], cap_[e]);
+      // Blood in the donor's proportion at the substep's start (its outflows together never
+      // exceed its mobile film, so never its blood).
+      const Real b = std::min(blood_[from], v * fraction_[from]);
       film_[from] -= v;
+      blood_[from] = std::max(0.0, blood_[from] - b);
       film_[to] += v;
-      arrived_[to] += v / area_[to];
+      blood_[to] += b;
+      arrive(to, v, b);
     }
     shed_overhangs();
     remaining = h == remaining ? 0.0 : remaining - h;
@@ -242,10 +297,13 @@ void BloodFilm::step(std::span<const Vec3> positions, const Vec3& gravity, Real 
   }
   last_substeps_ = std::max(1, substeps);
   update_stain();
+  wet_ = std::any_of(film_.begin(), film_.end(), [](Real v) { return v > 0; });
 }
 
-Real BloodFilm::remove_within(std::span<const Vec3> positions, const Vec3& centre, Real radius, Real max_volume) {
-  if (!(max_volume > 0) || !(radius > 0)) return 0.0;
+Real BloodFilm::remove_within(std::span<const Vec3> positions, const Vec3& centre, Real radius, Real max_volume,
+                              Real* blood) {
+  if (blood) *blood = 0;
+  if (!(max_volume > 0) || !(radius > 0) || !wet_) return 0.0;
   const std::size_t n = std::min(film_.size(), positions.size());
   const Real r2 = radius * radius;
   Real within = 0;
@@ -257,16 +315,21 @@ Real BloodFilm::remove_within(std::span<const Vec3> positions, const Vec3& centr
   for (std::size_t i = 0; i < n; ++i) {
     if (!(film_[i] > 0) || (positions[i] - centre).squaredNorm() > r2) continue;
     const Real v = fraction < 1 ? film_[i] * fraction : film_[i];
-    film_[i] -= v;
+    const Real b = take(i, v);
+    if (blood) *blood += b;
     removed += v;
   }
+  wet_ = std::any_of(film_.begin(), film_.end(), [](Real v) { return v > 0; });
   return removed;
 }
 
 void BloodFilm::remap(std::span<const std::uint32_t> vertex_origin, std::span<const Triangle> triangles,
                       std::span<const Vec3> rest_positions) {
   const std::size_t old_n = film_.size(), n = vertex_origin.size();
-  const std::vector<Real> old_film = std::move(film_), old_arrived = std::move(arrived_), old_stain = std::move(stain_);
+  const std::vector<Real> old_film = std::move(film_), old_blood = std::move(blood_),
+                          old_arrived = std::move(arrived_), old_stain = std::move(stain_);
+  // Pending drips have left the surface already: they stay where they were counted (dripped).
+  clear_drips();
   build(triangles, rest_positions);
   // The new area of each old vertex's copies, and how many there are.
   std::vector<Real> copy_area(old_n, 0.0);
@@ -277,6 +340,7 @@ void BloodFilm::remap(std::span<const std::uint32_t> vertex_origin, std::span<co
       ++copies[vertex_origin[v]];
     }
   film_.assign(n, 0.0);
+  blood_.assign(n, 0.0);
   arrived_.assign(n, 0.0);
   stain_.assign(n, 0.0);
   for (std::size_t v = 0; v < n; ++v) {
@@ -284,17 +348,20 @@ void BloodFilm::remap(std::span<const std::uint32_t> vertex_origin, std::span<co
     if (o >= old_n) continue;
     const Real share = copy_area[o] > 0 ? area_[v] / copy_area[o] : 1.0 / copies[o];
     film_[v] = copies[o] == 1 ? old_film[o] : old_film[o] * share;
+    blood_[v] = copies[o] == 1 ? old_blood[o] : old_blood[o] * share;
     arrived_[v] = old_arrived[o];
     stain_[v] = old_stain[o];
   }
   for (std::size_t o = 0; o < old_n; ++o)
-    if (copies[o] == 0) dripped_ += old_film[o];
+    if (copies[o] == 0) dripped_ += old_film[o], dripped_blood_ += old_blood[o];
   // A copy without area cannot hold its share: it drips (add's rule).
   for (std::size_t v = 0; v < n; ++v)
     if (film_[v] > 0 && !(area_[v] > 0)) {
       dripped_ += film_[v];
-      film_[v] = 0;
+      dripped_blood_ += blood_[v];
+      film_[v] = blood_[v] = 0;
     }
+  wet_ = std::any_of(film_.begin(), film_.end(), [](Real v) { return v > 0; });
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -421,9 +488,17 @@ void Bleeding::clip(std::size_t wound) {
 
 Real Bleeding::suction(std::size_t tissue, std::span<const Vec3> positions, const Vec3& tip, Real radius, Real rate,
                        Real dt) {
-  const Real removed = films_[tissue].remove_within(positions, tip, radius, rate * dt);
+  Real blood = 0;
+  const Real removed = films_[tissue].remove_within(positions, tip, radius, rate * dt, &blood);
   suctioned_ += removed;
+  suctioned_blood_ += blood;
   return removed;
+}
+
+void Bleeding::irrigate(std::size_t tissue, std::uint32_t vertex, Real volume) {
+  if (!(volume > 0) || tissue >= films_.size()) return;
+  films_[tissue].add_saline(vertex, volume);
+  irrigated_ += volume;
 }
 
 std::optional<Real> Bleeding::time_to_haemostasis(std::size_t wound) const {
@@ -438,9 +513,21 @@ Real Bleeding::volume() const {
   return sum;
 }
 
+Real Bleeding::blood_volume() const {
+  Real sum = 0;
+  for (const BloodFilm& f : films_) sum += f.blood_volume();
+  return sum;
+}
+
 Real Bleeding::pool() const {
   Real sum = 0;
   for (const BloodFilm& f : films_) sum += f.dripped();
+  return sum;
+}
+
+Real Bleeding::pool_blood() const {
+  Real sum = 0;
+  for (const BloodFilm& f : films_) sum += f.dripped_blood();
   return sum;
 }
 

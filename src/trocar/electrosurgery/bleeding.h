@@ -45,15 +45,31 @@
 /// vertex's outflow would exceed its mobile film, its outflows are scaled down proportionally.
 /// No allocation after construction.
 ///
+/// Saline: irrigation adds saline to the same film, which then carries a mixture. Each vertex also
+/// holds the blood part B_i ≤ V_i of its fluid; every transfer (flow, run-off, drip, suction) takes
+/// blood in the donor's proportion B/V, so blood and saline are each conserved. The mixture's
+/// viscosity is interpolated linearly in the blood fraction between saline's and blood's (a
+/// modelling choice: diluted blood thins towards its plasma-and-saline viscosity).
+///
 /// Stain: each vertex accumulates the thickness of blood that has arrived at it (by flow or from a
-/// wound), D_i; its stain is 1 − exp(−D_i / stain_thickness): monotone, 0 where no blood came,
-/// near 1 where much passed. Suction takes the blood, not the stain.
+/// wound), D_i; its stain is 1 − exp(−D_i / stain_thickness): 0 where no blood came, near 1 where
+/// much passed. Saline that arrives washes it: D_i ← D_i e^{−s / wash_thickness} for s (m) of
+/// saline arriving, so a vertex under a steady mixture of blood fraction f settles at
+/// D ≈ wash_thickness f / (1 − f): diluted blood stains less, irrigation cleans. Suction takes
+/// fluid, not the stain.
+///
+/// Drips: what leaves the surface from a vertex (run-off across the open border, drips from an
+/// overhang) is also kept per vertex as pending (pending_drips) until the owner lands it on a
+/// surface below (Bleeding::land) or lets it go.
 ///
 /// Bleeding — the wounds over several tissues' films: a cut vessel bleeds Q = v̄ π d² / 4 (v̄ the
 /// mean blood speed of its kind) into its tissue's film at the wound's vertex until it is sealed
-/// by coagulation (within the energy's sealing limit) or a clip. Invariant, to rounding:
+/// by coagulation (within the energy's sealing limit) or a clip. Invariants, to rounding:
 ///
-///   emitted() = volume() + pool() + suctioned().
+///   emitted() = blood_volume() + pool_blood() + suctioned_blood()
+///   emitted() + irrigated() = volume() + pool() + suctioned()
+///
+/// (Where what drips off one surface lands on another: drip_landing.h.)
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -82,6 +98,12 @@ struct FilmProperties {
   /// m: the arrived thickness that stains a vertex to 1 − 1/e (a modelling choice: a film's
   /// passage of a few tens of µm darkens the tissue visibly).
   Real stain_thickness = 5e-5;
+  /// Pa·s: saline's viscosity, for irrigation fluid (water at 37 °C: 0.69 mPa·s, CRC Handbook of
+  /// Chemistry and Physics; 0.9 % NaCl adds about 2 %).
+  Real saline_viscosity = 0.7e-3;
+  /// m of saline arriving at a vertex that fades its stain's measure to 1/e (assumed: a millimetre
+  /// of irrigation rinses a stained patch visibly clean).
+  Real wash_thickness = 1e-3;
   /// Largest fraction of its mobile film a vertex gives per substep (Courant number of the
   /// kinematic wave is 3× this: 0.3 keeps the upwind scheme below 1).
   Real courant = 0.3;
@@ -102,8 +124,13 @@ class BloodFilm {
             const FilmProperties& properties = {});
 
   /// Adds `volume` (m³, ≥ 0) of blood at `vertex`. A vertex the surface does not have (or one of
-  /// no area, which cannot hold a film) lets it drip: it goes to dripped(). No allocation.
-  void add(std::uint32_t vertex, Real volume);
+  /// no area, which cannot hold a film) lets it drip: it goes to dripped() (not pending: it has no
+  /// place). No allocation.
+  void add(std::uint32_t vertex, Real volume) { add_mixture(vertex, volume, volume); }
+  /// Adds `volume` (m³) of saline at `vertex` (irrigation), as add().
+  void add_saline(std::uint32_t vertex, Real volume) { add_mixture(vertex, volume, 0); }
+  /// Adds `volume` (m³) of fluid of which `blood` (0 ≤ blood ≤ volume) is blood, as add().
+  void add_mixture(std::uint32_t vertex, Real volume, Real blood);
 
   /// Advances by dt with the tissue's current (deformed) vertex positions and gravity (m/s²):
   /// flow, run-off across open borders, drips from overhangs, stain. No allocation. Nothing flows
@@ -111,9 +138,10 @@ class BloodFilm {
   void step(std::span<const Vec3> positions, const Vec3& gravity, Real dt);
 
   /// Removes the film of every vertex within `radius` of `centre` (at `positions`), at most
-  /// `max_volume` in all (proportionally, when there is more). Returns the volume removed (m³).
-  /// The stain stays. No allocation.
-  Real remove_within(std::span<const Vec3> positions, const Vec3& centre, Real radius, Real max_volume);
+  /// `max_volume` in all (proportionally, when there is more). Returns the volume removed (m³),
+  /// its blood part in `*blood` when given. The stain stays. No allocation.
+  Real remove_within(std::span<const Vec3> positions, const Vec3& centre, Real radius, Real max_volume,
+                     Real* blood = nullptr);
 
   /// After a topology change (`rest_positions` and `vertex_origin` have one entry per new vertex,
   /// each origin an old vertex): new vertex v takes old vertex `vertex_origin[v]`'s film, arrived
@@ -125,14 +153,26 @@ class BloodFilm {
              std::span<const Vec3> rest_positions);
 
   std::size_t size() const { return film_.size(); }               ///< vertices
-  std::span<const Real> film() const { return film_; }            ///< m³ per vertex
+  std::span<const Real> film() const { return film_; }            ///< m³ of fluid per vertex
+  std::span<const Real> blood() const { return blood_; }          ///< m³ of it that is blood
   std::span<const Real> area() const { return area_; }            ///< m² per vertex (lumped, rest)
   std::span<const Real> stain() const { return stain_; }          ///< 0…1 per vertex, monotone
   /// m of blood that has arrived at each vertex so far (the stain's measure), monotone.
   std::span<const Real> arrived() const { return arrived_; }
   Real thickness(std::size_t vertex) const;                       ///< m: film / area (0 without area)
-  Real volume() const;                                            ///< m³ on the surface
-  Real dripped() const { return dripped_; }                       ///< m³ shed off the surface so far
+  Real blood_thickness(std::size_t vertex) const;                 ///< m: blood / area (0 without area)
+  Real volume() const;                                            ///< m³ of fluid on the surface
+  Real blood_volume() const;                                      ///< m³ of blood on the surface
+  Real dripped() const { return dripped_; }                       ///< m³ of fluid shed off so far
+  Real dripped_blood() const { return dripped_blood_; }           ///< m³ of blood shed off so far
+  /// Per vertex: fluid (m³) shed from it since the last clear_drips(), and its blood part; whether
+  /// any is.
+  std::span<const Real> pending_drips() const { return drip_; }
+  std::span<const Real> pending_blood() const { return drip_blood_; }
+  bool dripping() const { return dripping_; }
+  void clear_drips();
+  /// Any fluid on the surface (cheap: kept by every change).
+  bool wet() const { return wet_; }
   /// Substeps the last step() took (1 when nothing flowed).
   int last_substeps() const { return last_substeps_; }
   std::span<const Vec3> rest_positions() const { return rest_; }
@@ -142,12 +182,20 @@ class BloodFilm {
   void build(std::span<const Triangle> triangles, std::span<const Vec3> rest_positions);
   void shed_overhangs();
   void update_stain();
+  /// Takes `volume` of fluid (≤ film) from vertex i with its blood in proportion; returns the blood.
+  Real take(std::size_t i, Real volume);
+  /// Sheds `volume` of fluid with `blood` of it from vertex i off the surface (pending there).
+  void shed(std::size_t i, Real volume, Real blood);
+  /// Fluid arriving at vertex i: `blood` of it adds to the stain's measure, the rest washes it.
+  void arrive(std::size_t i, Real volume, Real blood);
 
   FilmProperties properties_;
   std::vector<Triangle> triangles_;
   std::vector<Vec3> rest_;
   std::vector<Real> area_;     ///< A_i, m²
-  std::vector<Real> film_;     ///< V_i, m³
+  std::vector<Real> film_;     ///< V_i, m³ of fluid
+  std::vector<Real> blood_;    ///< B_i ≤ V_i, m³ of blood
+  std::vector<Real> drip_, drip_blood_;  ///< per vertex: shed since clear_drips(), m³
   std::vector<Real> arrived_;  ///< D_i, m
   std::vector<Real> stain_;    ///< 1 − exp(−D_i / stain_thickness)
   /// Each undirected edge of non-zero dual width once (a transfer is one subtraction and one
@@ -177,7 +225,9 @@ class BloodFilm {
   std::vector<Real> mobile_;        ///< per vertex: film above the residual layer, m³
   std::vector<Real> drive_;         ///< per vertex: k h_m³, m²/s
   std::vector<Real> surface_;       ///< per vertex: depth of the film's driving surface, m
-  Real dripped_ = 0;
+  std::vector<Real> fraction_;      ///< per vertex: its blood fraction at the substep's start
+  Real dripped_ = 0, dripped_blood_ = 0;
+  bool dripping_ = false, wet_ = false;
   int last_substeps_ = 1;
 };
 
@@ -269,9 +319,11 @@ class Bleeding {
   /// A clip: closes any wound at time() (a sealed one keeps its seal time).
   void clip(std::size_t wound);
 
-  /// Suction at `tip` (m) within `radius` on tissue `tissue` at `positions`: removes film up to
+  /// Suction at `tip` (m) within `radius` on tissue `tissue` at `positions`: removes fluid up to
   /// rate × dt (m³/s × s). Returns the volume removed. No allocation.
   Real suction(std::size_t tissue, std::span<const Vec3> positions, const Vec3& tip, Real radius, Real rate, Real dt);
+  /// Irrigation: `volume` (m³) of saline onto tissue `tissue` at `vertex`. No allocation.
+  void irrigate(std::size_t tissue, std::uint32_t vertex, Real volume);
 
   /// Seconds from the wound's opening to its closing; empty while it bleeds.
   std::optional<Real> time_to_haemostasis(std::size_t wound) const;
@@ -296,9 +348,13 @@ class Bleeding {
 
   Real time() const { return time_; }
   Real emitted() const { return emitted_; }      ///< m³ bled by all wounds
-  Real volume() const;                           ///< m³ on all surfaces
-  Real pool() const;                             ///< m³ dripped off all surfaces
-  Real suctioned() const { return suctioned_; }  ///< m³ removed by suction
+  Real irrigated() const { return irrigated_; }  ///< m³ of saline irrigated
+  Real volume() const;                           ///< m³ of fluid on all surfaces
+  Real blood_volume() const;                     ///< m³ of blood on all surfaces
+  Real pool() const;                             ///< m³ of fluid dripped off all surfaces
+  Real pool_blood() const;                       ///< m³ of blood dripped off all surfaces
+  Real suctioned() const { return suctioned_; }  ///< m³ of fluid removed by suction
+  Real suctioned_blood() const { return suctioned_blood_; }  ///< m³ of blood removed by suction
   const BleedingProperties& properties() const { return properties_; }
 
  private:
@@ -307,7 +363,8 @@ class Bleeding {
   std::vector<Wound> wounds_;
   Real time_ = 0;
   Real emitted_ = 0;
-  Real suctioned_ = 0;
+  Real irrigated_ = 0;
+  Real suctioned_ = 0, suctioned_blood_ = 0;
 };
 
 }  // namespace trocar
