@@ -100,6 +100,63 @@ TEST(Instruments, TackerBluntFiveMillimetreShaft) {
   }
 }
 
+TEST(Instruments, SuctionIrrigatorRoundedFiveMillimetreCannula) {
+  const SuctionIrrigatorSize size;
+  const InstrumentMesh c = make_suction_irrigator(size);
+  const std::size_t s = size.segments, n = size.round_rings;
+  EXPECT_TRUE(c.jaw_triangles.empty());
+  EXPECT_EQ(c.mesh.positions.size(), (n + 2) * s + 2);  // 3 rings on the rounding: 82
+  EXPECT_EQ(c.mesh.triangles.size(), 2 * (n + 2) * s);  // 160
+  const MeshReport r = validate(c.mesh);
+  EXPECT_TRUE(r.is_clean()) << ::testing::PrintToString(r.defects());
+  EXPECT_EQ(r.components, 1u);
+  EXPECT_EQ(r.euler_characteristic, 2);
+  // Tip at the origin, shaft up +z; Ø5 mm, 33 cm.
+  EXPECT_EQ(r.bounds.min.z(), 0.0);
+  EXPECT_NEAR(r.bounds.max.z(), 0.33, 1e-15);
+  EXPECT_NEAR(r.bounds.max.x(), 0.0025, 1e-15);
+  EXPECT_EQ(c.tip, Vec3::Zero());
+  EXPECT_EQ(c.tip_axis, Vec3(0, 0, -1));
+  // Rounded: every vertex of the tip's rings lies on the quarter circle of radius 1 mm about the
+  // point 1.5 mm out and 1 mm up (the torus of the fillet), the flat disc's rim 1.5 mm out at z = 0.
+  const Real R = size.shaft_radius, rho = size.tip_round;
+  int on_round = 0;
+  for (std::size_t v = 0; v < (n + 1) * s; ++v) {
+    const Vec3& p = c.mesh.positions[v];
+    EXPECT_NEAR(std::hypot(std::hypot(p.x(), p.y()) - (R - rho), p.z() - rho), rho, 1e-15) << v;
+    on_round += p.z() <= rho + 1e-15 ? 1 : 0;
+  }
+  EXPECT_EQ(on_round, static_cast<int>((n + 1) * s));
+  // Volume: the s-gon frusta between consecutive rings (r, z) at θ = kπ/2n on the rounding, then
+  // the prism of the shaft: ½·s·sin(2π/s)·Σ h/3·(r₁² + r₂² + r₁r₂).
+  const Real sn = 0.5 * static_cast<Real>(s) * std::sin(2 * std::numbers::pi / static_cast<Real>(s));
+  Real volume = sn * R * R * (size.shaft_length - rho), r1 = R - rho, z1 = 0;
+  for (std::size_t k = 1; k <= n; ++k) {
+    const Real t = std::numbers::pi / 2 * static_cast<Real>(k) / static_cast<Real>(n);
+    const Real r2 = R - rho + rho * std::sin(t), z2 = rho - rho * std::cos(t);
+    volume += sn * (z2 - z1) / 3 * (r1 * r1 + r2 * r2 + r1 * r2);
+    r1 = r2, z1 = z2;
+  }
+  EXPECT_NEAR(r.signed_volume, volume, 1e-15);
+  // Between the tacker's chamfer and the full cylinder: more than the chamfered, less than the
+  // square-ended one.
+  TackerSize chamfered;
+  chamfered.bevel = rho;
+  EXPECT_GT(r.signed_volume, validate(make_tacker(chamfered).mesh).signed_volume);
+  EXPECT_LT(r.signed_volume, sn * R * R * size.shaft_length);
+  // One round ring is the tacker's chamfer exactly.
+  SuctionIrrigatorSize one = size;
+  one.round_rings = 1;
+  EXPECT_EQ(make_suction_irrigator(one).mesh.positions, make_tacker(chamfered).mesh.positions);
+  // Every triangle's normal points away from the axis or out through a cap.
+  for (const Triangle& tri : c.mesh.triangles) {
+    const Vec3 a = c.mesh.positions[tri[0]], b = c.mesh.positions[tri[1]], d = c.mesh.positions[tri[2]];
+    const Vec3 centre = (a + b + d) / 3;
+    const Vec3 out = centre - Vec3(0, 0, std::clamp(centre.z(), 0.01, 0.32));
+    EXPECT_GT((b - a).cross(d - a).dot(out), 0);
+  }
+}
+
 TEST(Instruments, RejectBadSizes) {
   GrasperSize g;
   g.jaw_length = 0;
@@ -113,6 +170,15 @@ TEST(Instruments, RejectBadSizes) {
   k = TackerSize{};
   k.segments = 2;
   EXPECT_THROW(make_tacker(k), Error);
+  SuctionIrrigatorSize c;
+  c.tip_round = c.shaft_radius;
+  EXPECT_THROW(make_suction_irrigator(c), Error);
+  c = SuctionIrrigatorSize{};
+  c.round_rings = 0;
+  EXPECT_THROW(make_suction_irrigator(c), Error);
+  c = SuctionIrrigatorSize{};
+  c.shaft_length = -1;
+  EXPECT_THROW(make_suction_irrigator(c), Error);
 }
 
 }  // namespace

@@ -1,8 +1,11 @@
 #include "trocar/mesh/instruments.h"
 
+#include <array>
 #include <cmath>
 #include <numbers>
+#include <span>
 #include <string>
+#include <vector>
 
 #include "trocar/core/error.h"
 #include "trocar/mesh/generate.h"
@@ -88,6 +91,25 @@ void close_ring_stack(TriMesh& m, std::size_t rings, std::size_t s) {
   orient_outward(m);
 }
 
+/// A closed solid of revolution about z: one ring of `s` vertices per (radius, z) of `profile`
+/// (tip end first), each end capped at its centre on the axis (close_ring_stack). The tacker's and
+/// the suction-irrigator's blunt shafts; tip at the origin, tip_axis −z.
+InstrumentMesh revolved_shaft(std::span<const std::array<Real, 2>> profile, std::size_t s) {
+  InstrumentMesh out;
+  TriMesh& m = out.mesh;
+  for (const auto& ring : profile)
+    for (std::size_t i = 0; i < s; ++i) {
+      const Real a = 2 * kPi * static_cast<Real>(i) / static_cast<Real>(s);
+      m.positions.emplace_back(ring[0] * std::cos(a), ring[0] * std::sin(a), ring[1]);
+    }
+  m.positions.emplace_back(0, 0, profile.front()[1]);  // the tip's cap centre, then the handle's
+  m.positions.emplace_back(0, 0, profile.back()[1]);
+  close_ring_stack(m, profile.size(), s);
+  out.tip = Vec3::Zero();
+  out.tip_axis = -Vec3::UnitZ();
+  return out;
+}
+
 }  // namespace
 
 InstrumentMesh make_hook_probe(const HookSize& size) {
@@ -129,22 +151,28 @@ InstrumentMesh make_tacker(const TackerSize& size) {
   require(positive(size.bevel) && size.bevel < size.shaft_radius && size.bevel < size.shaft_length,
           "tacker bevel must be in (0, min(shaft radius, shaft length))");
   require(size.segments >= 3, "tacker needs segments >= 3");
-  const std::size_t s = size.segments;
-  InstrumentMesh out;
-  TriMesh& m = out.mesh;
-  const Real rings[3][2] = {{size.shaft_radius - size.bevel, 0}, {size.shaft_radius, size.bevel},
-                            {size.shaft_radius, size.shaft_length}};
-  for (const auto& ring : rings)
-    for (std::size_t i = 0; i < s; ++i) {
-      const Real a = 2 * kPi * static_cast<Real>(i) / static_cast<Real>(s);
-      m.positions.emplace_back(ring[0] * std::cos(a), ring[0] * std::sin(a), ring[1]);
-    }
-  m.positions.emplace_back(0, 0, 0);  // the tip's cap centre, then the shaft's
-  m.positions.emplace_back(0, 0, size.shaft_length);
-  close_ring_stack(m, 3, s);
-  out.tip = Vec3::Zero();
-  out.tip_axis = -Vec3::UnitZ();
-  return out;
+  const std::array<Real, 2> rings[3] = {{size.shaft_radius - size.bevel, 0}, {size.shaft_radius, size.bevel},
+                                        {size.shaft_radius, size.shaft_length}};
+  return revolved_shaft(rings, size.segments);
+}
+
+InstrumentMesh make_suction_irrigator(const SuctionIrrigatorSize& size) {
+  require(positive(size.shaft_radius) && positive(size.shaft_length), "suction-irrigator shaft sizes must be positive");
+  require(positive(size.tip_round) && size.tip_round < size.shaft_radius && size.tip_round < size.shaft_length,
+          "suction-irrigator tip_round must be in (0, min(shaft radius, shaft length))");
+  require(size.segments >= 3, "suction-irrigator needs segments >= 3");
+  require(size.round_rings >= 1, "suction-irrigator needs round_rings >= 1");
+  // The tip's edge a quarter circle of radius ρ about (R − ρ, ρ): at θ = 0 the flat disc's rim,
+  // at θ = π/2 the full shaft, θ in round_rings equal steps between.
+  const Real R = size.shaft_radius, rho = size.tip_round;
+  std::vector<std::array<Real, 2>> rings = {{R - rho, 0}};
+  for (std::size_t k = 1; k <= size.round_rings; ++k) {
+    const Real t = kPi / 2 * static_cast<Real>(k) / static_cast<Real>(size.round_rings);
+    rings.push_back({R - rho + rho * std::sin(t), rho - rho * std::cos(t)});
+  }
+  rings.back() = {R, rho};  // exactly the shaft, whatever sin(π/2) rounds to
+  rings.push_back({R, size.shaft_length});
+  return revolved_shaft(rings, size.segments);
 }
 
 }  // namespace trocar

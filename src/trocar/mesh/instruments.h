@@ -69,4 +69,21 @@ struct TackerSize {
 /// tip = the origin, tip_axis = −z (a tack leaves along it). Throws trocar::Error on bad sizes.
 InstrumentMesh make_tacker(const TackerSize& size = {});
 
+/// Sizes of make_suction_irrigator() (metres). Defaults: a 5 mm suction-irrigation cannula (Ø5 mm,
+/// 33 cm, the common laparoscopic length; its side holes and bore are not modelled).
+struct SuctionIrrigatorSize {
+  Real shaft_radius = 0.0025;  ///< Ø5 mm shaft
+  Real shaft_length = 0.33;    ///< tip to handle end
+  Real tip_round = 0.001;      ///< the blunt tip's rounded edge: a quarter circle of this radius
+  std::size_t round_rings = 3; ///< rings along that quarter circle (≥ 1; 1 is the tacker's chamfer)
+  std::size_t segments = 16;   ///< around the shaft (≥ 3)
+};
+
+/// A suction-irrigator: one closed capped cylinder z ∈ [0, shaft_length] whose tip end is a flat
+/// disc of radius shaft_radius − tip_round at z = 0, rounded out to the full radius at z =
+/// tip_round. Rings: tip disc, round_rings along the rounding (n), handle end, plus two cap
+/// centres: V = (n + 2)s + 2, T = 2(n + 2)s, χ = 2. tip = the origin, tip_axis = −z (where it
+/// draws in and the way its jet leaves). Throws trocar::Error on bad sizes.
+InstrumentMesh make_suction_irrigator(const SuctionIrrigatorSize& size = {});
+
 }  // namespace trocar

@@ -102,4 +102,15 @@ TriMesh generate_tacker(const JsonReader& spec) {
   return checked(spec, [&] { return make_tacker(size).mesh; });
 }
 
+TriMesh generate_suction_irrigator(const JsonReader& spec) {
+  spec.expect_keys({"generate", "shaft_radius", "shaft_length", "tip_round", "round_rings", "segments"});
+  SuctionIrrigatorSize size;
+  size.shaft_radius = length_or(spec, "shaft_radius", size.shaft_radius);
+  size.shaft_length = length_or(spec, "shaft_length", size.shaft_length);
+  size.tip_round = length_or(spec, "tip_round", size.tip_round);
+  size.round_rings = count(spec, "round_rings", static_cast<std::int64_t>(size.round_rings), 1, 64);
+  size.segments = count(spec, "segments", static_cast<std::int64_t>(size.segments), 3, 1024);
+  return checked(spec, [&] { return make_suction_irrigator(size).mesh; });
+}
+
 }  // namespace trocar

@@ -24,5 +24,8 @@ TriMesh generate_grasper(const JsonReader& spec);
 TriMesh generate_hook_probe(const JsonReader& spec);
 /// "tacker": all optional, defaults of TackerSize: shaft_radius, shaft_length, bevel (m), segments.
 TriMesh generate_tacker(const JsonReader& spec);
+/// "suction-irrigator": all optional, defaults of SuctionIrrigatorSize: shaft_radius,
+/// shaft_length, tip_round (m), round_rings, segments.
+TriMesh generate_suction_irrigator(const JsonReader& spec);
 
 }  // namespace trocar

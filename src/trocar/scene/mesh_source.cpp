@@ -65,6 +65,7 @@ const std::vector<MeshGenerator>& mesh_generators() {
       {"prosthetic-mesh", generate_prosthetic_mesh, "width, height (m, required), spacing (m, default 0.005); UVs in metres"},
       {"hook-probe", generate_hook_probe, "all optional (4.5 mm hook): shaft_radius, shaft_length, hook_radius, stem_length, hook_length (m), segments"},
       {"tacker", generate_tacker, "all optional (5 mm tack applier): shaft_radius, shaft_length, bevel (m), segments"},
+      {"suction-irrigator", generate_suction_irrigator, "all optional (5 mm suction-irrigation cannula): shaft_radius, shaft_length, tip_round (m), round_rings, segments"},
   };
   return table;
 }
