@@ -19,7 +19,7 @@ struct PortCommand {
   Real roll = 0;    ///< rad, about the shaft
   Real jaw = 0;     ///< closure 0 (open) … 1 (closed)
   /// Buttons held (DeviceInput::buttons: bit 1 fires the tacker, bit 2 exchanges the instrument
-  /// in the port; docs/devices.md).
+  /// in the port, bits 3, 5 and 7 are the pedal, suction and irrigation; docs/devices.md).
   std::uint32_t buttons = 0;
 };
 

@@ -11,6 +11,10 @@ std::uint32_t action_from_name(const std::string& name) {
   if (name == "exchange") return kActionExchange;
   if (name == "energy_on") return kActionEnergyOn;
   if (name == "energy_off") return kActionEnergyOff;
+  if (name == "suction_on") return kActionSuctionOn;
+  if (name == "suction_off") return kActionSuctionOff;
+  if (name == "irrigate_on") return kActionIrrigateOn;
+  if (name == "irrigate_off") return kActionIrrigateOff;
   return 0;
 }
 
@@ -22,12 +26,19 @@ ActionScript::ActionScript(std::vector<ScriptedAction> actions) : actions_(std::
 void apply_actions(Simulation& sim, std::size_t instrument, std::uint32_t bits, ActionHandler* handler) {
   if (instrument >= sim.world().instruments.size()) return;
   if ((bits & kActionFire) && handler != nullptr) handler->fire(sim, sim.active_in_port(instrument));
-  // The pedal drives the electrode of the port's instrument in the body; an exchange takes it out
-  // with the pedal up.
-  if (bits & kActionEnergyOn) sim.set_energy(sim.active_in_port(instrument), true);
-  if (bits & kActionEnergyOff) sim.set_energy(sim.active_in_port(instrument), false);
+  // The pedal and the valves drive the port's instrument in the body (a valve it lacks stays
+  // shut: Simulation::set_suction); an exchange takes it out with the pedal up and the valves shut.
+  const std::size_t active = sim.active_in_port(instrument);
+  if (bits & kActionEnergyOn) sim.set_energy(active, true);
+  if (bits & kActionEnergyOff) sim.set_energy(active, false);
+  if (bits & kActionSuctionOn) sim.set_suction(active, true);
+  if (bits & kActionSuctionOff) sim.set_suction(active, false);
+  if (bits & kActionIrrigateOn) sim.set_irrigation(active, true);
+  if (bits & kActionIrrigateOff) sim.set_irrigation(active, false);
   if (bits & kActionExchange) {
-    sim.set_energy(sim.active_in_port(instrument), false);
+    sim.set_energy(active, false);
+    sim.set_suction(active, false);
+    sim.set_irrigation(active, false);
     sim.exchange(instrument);
   }
 }

@@ -1,6 +1,6 @@
 #pragma once
 /// What a trainee does besides moving: fire the tacker, exchange the instrument in a port, press
-/// and release the electrode's pedal. From a
+/// and release the electrode's pedal or a suction-irrigator's two trumpet valves. From a
 /// device's buttons, the viewer's keys, a scene's scripted "events", or a recording; one bit set
 /// each, applied between steps (docs/procedure.md, "Actions").
 #include <cstddef>
@@ -20,20 +20,32 @@ enum ActionBit : std::uint32_t {
   /// bit is the pedal's level, held while it is down; recorded and scripted it is the press.
   kActionEnergyOn = 1u << 2,
   kActionEnergyOff = 1u << 3,   ///< the pedal released (recorded and scripted; no button)
+  /// A suction-irrigator's valves (electrosurgery/suction.h), held like the pedal: suction is
+  /// button 5, irrigation button 7; each Off bit is its release (recorded and scripted; no button).
+  kActionSuctionOn = 1u << 4,
+  kActionSuctionOff = 1u << 5,
+  kActionIrrigateOn = 1u << 6,
+  kActionIrrigateOff = 1u << 7,
 };
 
-/// The bits a device's buttons carry as levels (button i+1 = bit i): fire, exchange, the pedal.
-inline constexpr std::uint32_t kButtonActions = kActionFire | kActionExchange | kActionEnergyOn;
+/// The held actions (a level while the button is down), each with its release bit one above it.
+inline constexpr std::uint32_t kHeldActions = kActionEnergyOn | kActionSuctionOn | kActionIrrigateOn;
+
+/// The bits a device's buttons carry as levels (button i+1 = bit i): fire, exchange, the pedal,
+/// suction, irrigation.
+inline constexpr std::uint32_t kButtonActions = kActionFire | kActionExchange | kHeldActions;
 
 /// What a step applies for a device whose button levels went from `before` to `now`: the presses
-/// of fire, exchange and the pedal, and the pedal's release as kActionEnergyOff.
+/// of fire, exchange, the pedal and the valves, and each held action's release as its Off bit
+/// (On << 1).
 inline std::uint32_t button_actions(std::uint32_t before, std::uint32_t now) {
   const std::uint32_t pressed = now & ~before & kButtonActions;
-  const bool released = (before & kActionEnergyOn) != 0 && (now & kActionEnergyOn) == 0;
-  return pressed | (released ? kActionEnergyOff : 0u);
+  const std::uint32_t released = before & ~now & kHeldActions;
+  return pressed | (released << 1);
 }
 
-/// "fire" / "exchange" / "energy_on" / "energy_off" → its bit; 0 for any other name.
+/// "fire" / "exchange" / "energy_on" / "energy_off" / "suction_on" / "suction_off" /
+/// "irrigate_on" / "irrigate_off" → its bit; 0 for any other name.
 std::uint32_t action_from_name(const std::string& name);
 
 /// One scripted action (scene "events": {"t", "action", "instrument"}).
@@ -77,8 +89,9 @@ class ActionHandler {
   virtual void fire(Simulation& sim, std::size_t instrument) = 0;
 };
 
-/// Applies action bits on instrument i's port: exchange → Simulation::exchange(i); fire →
-/// handler->fire(sim, the port's instrument in the body), when a handler is given.
+/// Applies action bits on instrument i's port: exchange → Simulation::exchange(i) (the pedal up
+/// and the valves shut first); fire → handler->fire(sim, the port's instrument in the body), when
+/// a handler is given; the pedal and the valves → set_energy, set_suction, set_irrigation on it.
 void apply_actions(Simulation& sim, std::size_t instrument, std::uint32_t bits, ActionHandler* handler);
 
 /// Rising edges: the bits set in `now` that were clear in `before`.

@@ -210,6 +210,8 @@ ViewerKey glfw_key(int key) {
     case GLFW_KEY_T: return ViewerKey::kFire;      // a tack
     case GLFW_KEY_X: return ViewerKey::kExchange;  // the instrument in the port
     case GLFW_KEY_B: return ViewerKey::kEnergy;    // held: the electrode's pedal (burn)
+    case GLFW_KEY_V: return ViewerKey::kSuction;   // held: the suction valve (vacuum)
+    case GLFW_KEY_I: return ViewerKey::kIrrigate;  // held: the irrigation valve
     default: return ViewerKey::kOther;
   }
 }

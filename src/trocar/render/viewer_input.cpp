@@ -59,11 +59,15 @@ ViewerKey ViewerInput::key(ViewerKey k, bool down) {
     command_.jaw = down ? 1 : 0;
     changed_ = true;
   }
-  // Held: the device's buttons 1 (fire), 2 (exchange) and 3 (the electrode's pedal); the runtime
-  // acts on the press (and on the pedal's release).
-  if (k == ViewerKey::kFire || k == ViewerKey::kExchange || k == ViewerKey::kEnergy) {
-    const std::uint32_t action = k == ViewerKey::kFire ? kActionFire : k == ViewerKey::kExchange ? kActionExchange
-                                                                                                 : kActionEnergyOn;
+  // Held: the device's buttons 1 (fire), 2 (exchange), 3 (the electrode's pedal), 5 (suction)
+  // and 7 (irrigation); the runtime acts on the press (and on the held ones' release).
+  std::uint32_t action = 0;
+  if (k == ViewerKey::kFire) action = kActionFire;
+  if (k == ViewerKey::kExchange) action = kActionExchange;
+  if (k == ViewerKey::kEnergy) action = kActionEnergyOn;
+  if (k == ViewerKey::kSuction) action = kActionSuctionOn;
+  if (k == ViewerKey::kIrrigate) action = kActionIrrigateOn;
+  if (action != 0) {
     const std::uint32_t bit = action << 1;  // button i+1 = action bit i
     command_.buttons = down ? command_.buttons | bit : command_.buttons & ~bit;
     changed_ = true;
@@ -97,8 +101,9 @@ ViewerKey viewer_key_from_name(const std::string& name) {
       {"yaw-right", ViewerKey::kYawRight},  {"pitch-up", ViewerKey::kPitchUp},    {"pitch-down", ViewerKey::kPitchDown},
       {"roll-left", ViewerKey::kRollLeft},  {"roll-right", ViewerKey::kRollRight}, {"jaw", ViewerKey::kJaw},
       {"camera", ViewerKey::kToggleCamera}, {"pause", ViewerKey::kPause},         {"step", ViewerKey::kStep},
-      {"reset", ViewerKey::kReset},         {"record", ViewerKey::kRecord},       {"fire", ViewerKey::kFire},       {"energy", ViewerKey::kEnergy},
-      {"exchange", ViewerKey::kExchange}};
+      {"reset", ViewerKey::kReset},         {"record", ViewerKey::kRecord},       {"fire", ViewerKey::kFire},
+      {"energy", ViewerKey::kEnergy},       {"exchange", ViewerKey::kExchange},   {"suction", ViewerKey::kSuction},
+      {"irrigate", ViewerKey::kIrrigate}};
   for (const auto& [n, k] : names)
     if (name == n) return k;
   return ViewerKey::kOther;

@@ -12,7 +12,8 @@ namespace trocar {
 
 /// Mouse buttons and the keys the viewer uses (values independent of GLFW).
 enum class ViewerKey { kInsert, kRetract, kYawLeft, kYawRight, kPitchUp, kPitchDown, kRollLeft, kRollRight, kJaw,
-                       kToggleCamera, kPause, kStep, kReset, kRecord, kFire, kExchange, kEnergy, kOther };
+                       kToggleCamera, kPause, kStep, kReset, kRecord, kFire, kExchange, kEnergy, kSuction, kIrrigate,
+                       kOther };
 
 /// Event-to-motion mapping.
 class ViewerInput {
@@ -78,7 +79,8 @@ struct InjectedEvent {
 std::vector<InjectedEvent> read_injected_events(const std::string& file);
 
 /// Key names of the scripts: insert, retract, yaw-left, yaw-right, pitch-up, pitch-down,
-/// roll-left, roll-right, jaw, camera, pause, step, reset, record.
+/// roll-left, roll-right, jaw, camera, pause, step, reset, record, fire, exchange, energy,
+/// suction, irrigate.
 ViewerKey viewer_key_from_name(const std::string& name);
 
 }  // namespace trocar

@@ -159,7 +159,8 @@ PanelActions draw_panel(SceneEdits& e, RenderOptions& render, const PanelLive& l
     ImGui::TextWrapped(
         "Left drag: pivot the instrument about its port (yaw, pitch). Right drag: roll (x), insert (y). "
         "Wheel or W/S: insert/retract. A/D yaw, arrows pitch, Q/E roll. Space (held): close the jaws. "
-        "C: free camera (left drag orbits, wheel zooms). P pause, N step, R reset, F9 record/stop.");
+        "C: free camera (left drag orbits, wheel zooms). T fire the tacker, X exchange the instrument. Held: B "
+        "the electrode's pedal, V suction, I irrigation. P pause, N step, R reset, F9 record/stop.");
   }
   ImGui::End();
   return a;

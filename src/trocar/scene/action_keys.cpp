@@ -11,7 +11,9 @@ std::vector<ScriptedAction> read_actions(const JsonReader& list, const World& wo
     a.t = e.at("t").number_at_least(0);
     const JsonReader action = e.at("action");
     a.action = action_from_name(action.string());
-    if (a.action == 0) action.fail("unknown action \"" + action.string() + "\" (known: fire, exchange, energy_on, energy_off)");
+    if (a.action == 0)
+      action.fail("unknown action \"" + action.string() +
+                  "\" (known: fire, exchange, energy_on, energy_off, suction_on, suction_off, irrigate_on, irrigate_off)");
     const JsonReader who = e.at("instrument");
     const std::string name = who.string();
     bool found = false;

@@ -31,7 +31,8 @@ struct DeviceSpec {
   Real damping = 2.0;          ///< "damping": the device's own b (N·s/m), for the passivity bound
   Real stale_after = 0.1;      ///< "stale_after" (s): openigtlink, silence that counts as stale
   /// scripted: the scene's "events" on this instrument as button presses, so that the real-time
-  /// runtime plays them too: at `t` (s), `buttons` = action << 1 (button 1 fires, 2 exchanges).
+  /// runtime plays them too: at `t` (s), `buttons` = action << 1 (button 1 fires, 2 exchanges; 3,
+  /// 5 and 7, the pedal and the valves, held `until` their off).
   struct Press {
     double t = 0;
     std::uint32_t buttons = 0;

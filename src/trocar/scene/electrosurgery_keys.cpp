@@ -16,6 +16,25 @@ ElectrodeSpec read_electrode(const JsonReader& r) {
   return e;
 }
 
+SuctionSpec no_suction() {
+  SuctionSpec s;
+  s.suction_flow = s.irrigation_flow = 0;
+  return s;
+}
+
+SuctionSpec read_suction(const JsonReader& r) {
+  if (!r.is_object()) return r.boolean() ? SuctionSpec{} : no_suction();
+  r.expect_keys({"suction_flow", "suction_radius", "smoke_radius", "irrigation_flow", "irrigation_reach", "jet_radius"});
+  SuctionSpec s;
+  if (r.has("suction_flow")) s.suction_flow = r.at("suction_flow").number_at_least(0);
+  if (r.has("suction_radius")) s.suction_radius = r.at("suction_radius").number_above(0);
+  if (r.has("smoke_radius")) s.smoke_radius = r.at("smoke_radius").number_above(0);
+  if (r.has("irrigation_flow")) s.irrigation_flow = r.at("irrigation_flow").number_at_least(0);
+  if (r.has("irrigation_reach")) s.irrigation_reach = r.at("irrigation_reach").number_above(0);
+  if (r.has("jet_radius")) s.jet_radius = r.at("jet_radius").number_above(0);
+  return s;
+}
+
 ThermalProperties read_thermal(const JsonReader& r) {
   r.expect_keys({"density", "specific_heat", "conductivity", "heated_depth", "water_fraction", "perfusion",
                  "body_temperature", "arrhenius_rate", "activation_energy"});

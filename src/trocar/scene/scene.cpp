@@ -226,7 +226,7 @@ DeviceSpec read_device(const JsonReader& d, const std::filesystem::path& dir) {
 
 void read_instrument(const JsonReader& r, std::size_t index, Scene& scene, const std::filesystem::path& dir) {
   r.expect_keys({"name", "mesh", "scale", "translate", "rotate_deg", "repair", "top_vertex", "shaft_direction",
-                 "jaw_triangles", "motion", "device", "port", "electrode"});
+                 "jaw_triangles", "motion", "device", "port", "electrode", "suction"});
   const std::string name = name_or(r, "instrument", index);
   TriMesh mesh = placed_mesh(r, dir);
   const std::size_t nv = mesh.vertex_count();
@@ -255,6 +255,8 @@ void read_instrument(const JsonReader& r, std::size_t index, Scene& scene, const
   const JsonReader source = r.at("mesh");
   if (source.is_object() && source.has("generate")) body.tool = source.at("generate").string();
   if (r.has("electrode")) body.electrode = read_electrode(r.at("electrode"));  // electrosurgery_keys.h
+  // A suction-irrigator only with the key, as an electrode (SuctionSpec's own defaults are a live one).
+  body.suction = r.has("suction") ? read_suction(r.at("suction")) : no_suction();
   scene.devices.push_back(std::move(device));
 }
 
@@ -409,16 +411,18 @@ Scene parse_scene(std::string_view text, const std::string& file, const std::fil
   if (root.has("tissue_contacts")) read_tissue_contacts(root.at("tissue_contacts"), scene);  // contact_keys.h
   if (root.has("camera")) read_cameras(root.at("camera"), scene);
   if (root.has("events")) scene.actions = read_actions(root.at("events"), scene.world);
-  // The real-time runtime presses them as buttons: a short press each, but the electrode's pedal,
-  // held from energy_on to the instrument's next energy_off (or the end).
+  // The real-time runtime presses them as buttons: a short press each, but the held ones (the
+  // electrode's pedal, the suction and irrigation valves) are held from their on to the
+  // instrument's next matching off (or the end); an off is that release, no button of its own.
   for (std::size_t k = 0; k < scene.actions.size(); ++k) {
     const ScriptedAction& a = scene.actions[k];
-    if (a.instrument >= scene.devices.size() || a.action == kActionEnergyOff) continue;
+    if (a.instrument >= scene.devices.size() || (a.action & (kHeldActions << 1)) != 0) continue;
     double until = -1;
-    if (a.action == kActionEnergyOn) {
+    if (a.action & kHeldActions) {
+      const std::uint32_t release = a.action << 1;  // actions.h: each held action's Off bit
       until = std::numeric_limits<double>::infinity();
       for (const ScriptedAction& off : scene.actions)
-        if (off.instrument == a.instrument && off.action == kActionEnergyOff && off.t >= a.t) until = std::min(until, off.t);
+        if (off.instrument == a.instrument && off.action == release && off.t >= a.t) until = std::min(until, off.t);
     }
     scene.devices[a.instrument].presses.push_back({a.t, a.action << 1, until});
   }
