@@ -392,7 +392,7 @@ TEST(Effects, TheRenderedBloodKeepsEveryDropTheWoundsBled) {
   ViewSnapshot snap;
   const auto check = [&](const char* when) {
     const EffectsView& e = r.effects();
-    const Real on_films = e.volume(), dripped = e.dripped();
+    const Real on_films = e.volume(), dripped = e.pool();
     std::printf("%s: bled %.4g ml, fed %.4g ml = films %.4g + pool %.4g (error %.2g of it)\n", when,
                 1e6 * sim->bleeding().emitted(), 1e6 * e.fed(), 1e6 * on_films, 1e6 * dripped,
                 std::abs(on_films + dripped - e.fed()) / e.fed());
@@ -406,7 +406,7 @@ TEST(Effects, TheRenderedBloodKeepsEveryDropTheWoundsBled) {
     render(ctx, r, snap, cam);
   }
   check("0.4 s");
-  EXPECT_GT(r.effects().dripped(), 0.0);  // some ran off the vessel's underside into the pool
+  EXPECT_GT(r.effects().pool(), 0.0);  // some ran off the vessel's underside into the pool
   // A second cut, downstream of the film: the tissue's model changes under the blood (its films
   // are remapped to the new vertices) and a second wound opens.
   const std::uint32_t cut2[] = {top_triangle(*sim, 0.006)};

@@ -76,6 +76,24 @@ TEST(ViewerInput, FireAndExchangeKeysHoldTheDeviceButtonsTheRuntimeActsOn) {
   EXPECT_EQ(viewer_key_from_name("exchange"), ViewerKey::kExchange);
 }
 
+TEST(ViewerInput, HeldValveKeysHoldButtonsFiveAndSeven) {
+  ViewerInput in;
+  EXPECT_EQ(in.key(ViewerKey::kSuction, true), ViewerKey::kOther);
+  EXPECT_EQ(in.command().buttons, 1u << 5);  // button 5: suction (procedure/actions.h)
+  in.key(ViewerKey::kIrrigate, true);
+  EXPECT_EQ(in.command().buttons, (1u << 5) | (1u << 7));  // button 7: irrigation
+  in.key(ViewerKey::kEnergy, true);
+  EXPECT_EQ(in.command().buttons, (1u << 3) | (1u << 5) | (1u << 7));  // button 3: the pedal
+  in.key(ViewerKey::kSuction, false);
+  EXPECT_EQ(in.command().buttons, (1u << 3) | (1u << 7));
+  in.key(ViewerKey::kIrrigate, false);
+  in.key(ViewerKey::kEnergy, false);
+  EXPECT_EQ(in.command().buttons, 0u);
+  EXPECT_EQ(viewer_key_from_name("suction"), ViewerKey::kSuction);
+  EXPECT_EQ(viewer_key_from_name("irrigate"), ViewerKey::kIrrigate);
+  EXPECT_EQ(viewer_key_from_name("energy"), ViewerKey::kEnergy);
+}
+
 TEST(ViewerInput, ScriptsAreReadAndBadLinesNamed) {
   const auto file = std::filesystem::temp_directory_path() / "trocar_events_test.txt";
   {

@@ -84,9 +84,25 @@ void BloodFilm::build(std::span<const Triangle> triangles, std::span<const Vec3>
   drip_.assign(n, 0.0);
   drip_blood_.assign(n, 0.0);
   dripping_ = false;
+  // Each vertex's edges (compressed rows), for the active set's walks.
+  adjacency_offset_.assign(n + 1, 0);
+  for (const Edge& e : edges_) ++adjacency_offset_[e.a + 1], ++adjacency_offset_[e.b + 1];
+  for (std::size_t i = 0; i < n; ++i) adjacency_offset_[i + 1] += adjacency_offset_[i];
+  adjacency_.assign(2 * edges_.size(), 0);
+  {
+    std::vector<std::uint32_t> next(adjacency_offset_.begin(), adjacency_offset_.end() - 1);
+    for (std::size_t e = 0; e < edges_.size(); ++e) {
+      adjacency_[next[edges_[e].a]++] = static_cast<std::uint32_t>(e);
+      adjacency_[next[edges_[e].b]++] = static_cast<std::uint32_t>(e);
+    }
+  }
+  active_.clear();
+  active_.reserve(n);
+  in_set_.assign(n, 0);
+  expanded_.assign(n, 0);
+  moving_.clear();
+  moving_.reserve(edges_.size());
   length_.assign(edges_.size(), 0.0);
-  flux_.assign(edges_.size(), 0.0);
-  cap_.assign(edges_.size(), 0.0);
 }
 
 void BloodFilm::add_mixture(std::uint32_t vertex, Real volume, Real blood) {
@@ -99,7 +115,7 @@ void BloodFilm::add_mixture(std::uint32_t vertex, Real volume, Real blood) {
   }
   film_[vertex] += volume;
   blood_[vertex] += blood;
-  wet_ = true;
+  wet_ = touched_ = true;
   arrive(vertex, volume, blood);
   stain_[vertex] = 1 - std::exp(-arrived_[vertex] / properties_.stain_thickness);
 }
@@ -152,10 +168,21 @@ Real BloodFilm::blood_volume() const {
   return sum;
 }
 
+void BloodFilm::expand(std::uint32_t i) {
+  if (!in_set_[i]) in_set_[i] = 1, active_.push_back(i);
+  expanded_[i] = 1;
+  for (std::uint32_t k = adjacency_offset_[i]; k < adjacency_offset_[i + 1]; ++k) {
+    const Edge& e = edges_[adjacency_[k]];
+    const std::uint32_t j = e.a == i ? e.b : e.a;
+    if (!in_set_[j]) in_set_[j] = 1, active_.push_back(j);
+  }
+}
+
 void BloodFilm::shed_overhangs() {
   // Beneath a surface facing down at cos φ to gravity, a film thicker than h_max / √cos φ drips.
+  // Only the active set can hold film (step() builds it before the first call).
   const Real h_max = properties_.max_thickness;
-  for (std::size_t i = 0; i < film_.size(); ++i) {
+  for (const std::uint32_t i : active_) {
     if (!(down_[i] > 0)) continue;
     const Real limit = h_max / std::sqrt(down_[i]) * area_[i];
     if (film_[i] > limit) {
@@ -216,6 +243,14 @@ void BloodFilm::step(std::span<const Vec3> positions, const Vec3& gravity, Real 
   for (Real& w : border_width_) w = std::max(w, 0.0);
   for (std::size_t e = 0; e < edges_.size(); ++e) length_[e] = (positions[edges_[e].a] - positions[edges_[e].b]).norm();
 
+  // The active set: the wet vertices and their neighbours (a dry vertex away from the film can
+  // neither give nor take this substep). Each substep visits only it: the cost follows the wet
+  // region, not the surface.
+  for (const std::uint32_t i : active_) in_set_[i] = expanded_[i] = 0;
+  active_.clear();
+  for (std::size_t i = 0; i < n; ++i)
+    if (film_[i] > 0) expand(static_cast<std::uint32_t>(i));
+
   shed_overhangs();  // what a wound added beneath an overhang
   Real remaining = dt;
   int substeps = 0;
@@ -223,8 +258,10 @@ void BloodFilm::step(std::span<const Vec3> positions, const Vec3& gravity, Real 
     // Per vertex at the start of the substep: its mobile film (m³), its Nusselt flux per width and
     // slope k h_m³ (m²/s), and the height of its free surface along gravity, where the film counts:
     // the excess over what surface tension holds, on a surface facing up (excess × cos φ).
+    const std::size_t m = active_.size();  // vertices that become wet this substep give from the next
     bool any = false;
-    for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t a_i = 0; a_i < m; ++a_i) {
+      const std::uint32_t i = active_[a_i];
       out_[i] = 0;
       const Real a = area_[i];
       mobile_[i] = a > 0 ? std::max(0.0, film_[i] - h_r * a) : 0.0;
@@ -237,59 +274,63 @@ void BloodFilm::step(std::span<const Vec3> positions, const Vec3& gravity, Real 
       surface_[i] = depth_[i] - (a > 0 && up_[i] > 0 ? up_[i] * std::max(0.0, film_[i] / a - h_max) : 0.0);
     }
     if (!any) break;
-    // Fluxes (upwind: the higher end's film flows) and the open border's run-off.
-    for (std::size_t e = 0; e < edges_.size(); ++e) {
-      const Edge& edge = edges_[e];
-      flux_[e] = 0;
-      if (drive_[edge.a] == 0 && drive_[edge.b] == 0) continue;  // a dry edge: the usual case
-      const Real drop = surface_[edge.b] - surface_[edge.a];       // > 0: a → b
-      if (drop == 0 || !(length_[e] > 0)) continue;
-      const std::uint32_t from = drop > 0 ? edge.a : edge.b, to = drop > 0 ? edge.b : edge.a;
+    // Fluxes (upwind: each donor to its lower neighbours; an edge flows one way, so it is visited
+    // once) and the open border's run-off.
+    moving_.clear();
+    for (std::size_t a_i = 0; a_i < m; ++a_i) {
+      const std::uint32_t from = active_[a_i];
       if (!(drive_[from] > 0)) continue;
-      const Real q = drive_[from] * edge.width * std::abs(drop) / length_[e];
-      flux_[e] = drop > 0 ? q : -q;
-      out_[from] += q;
-      // Levelling: a transfer of v lowers the drop by v (up_a/A_a + up_b/A_b) while either end is
-      // over h_max; give at most half of what would level them, so a puddle does not slosh.
-      cap_[e] = std::numeric_limits<Real>::infinity();
-      if (film_[from] > h_max * area_[from] || film_[to] > h_max * area_[to]) {
-        const Real sigma = up_[from] / area_[from] + (area_[to] > 0 ? up_[to] / area_[to] : 0.0);
-        if (sigma > 0) cap_[e] = 0.5 * std::abs(drop) / sigma;
+      for (std::uint32_t k = adjacency_offset_[from]; k < adjacency_offset_[from + 1]; ++k) {
+        const std::uint32_t e = adjacency_[k];
+        const Edge& edge = edges_[e];
+        const std::uint32_t to = edge.a == from ? edge.b : edge.a;
+        const Real drop = surface_[to] - surface_[from];  // > 0: `to` is lower
+        if (!(drop > 0) || !(length_[e] > 0)) continue;
+        const Real q = drive_[from] * edge.width * drop / length_[e];
+        out_[from] += q;
+        // Levelling: a transfer of v lowers the drop by v (up_a/A_a + up_b/A_b) while either end is
+        // over h_max; give at most half of what would level them, so a puddle does not slosh.
+        Real cap = std::numeric_limits<Real>::infinity();
+        if (film_[from] > h_max * area_[from] || film_[to] > h_max * area_[to]) {
+          const Real sigma = up_[from] / area_[from] + (area_[to] > 0 ? up_[to] / area_[to] : 0.0);
+          if (sigma > 0) cap = 0.5 * drop / sigma;
+        }
+        moving_.push_back({from, to, q, cap});
       }
+      if (border_width_[from] > 0) out_[from] += drive_[from] * border_width_[from];
     }
-    for (std::size_t i = 0; i < n; ++i)
-      if (border_width_[i] > 0) out_[i] += drive_[i] * border_width_[i];
     // The substep: no donor gives more than `courant` of its mobile film (the last allowed substep
     // takes what is left of dt, and the proportional limit below holds it to what the donor has).
     Real rate = 0;
-    for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t a_i = 0; a_i < m; ++a_i) {
+      const std::uint32_t i = active_[a_i];
       if (out_[i] > 0) rate = std::max(rate, out_[i] / mobile_[i]);
+    }
     if (!(rate > 0)) break;
     Real h = remaining;
     if (substeps + 1 < p.max_substeps && rate * h > p.courant) h = p.courant / rate;
     if (h >= remaining * (1 - 1e-12)) h = remaining;
     // Border run-off first, then the edges; each donor's outflows scaled by the same factor so that
     // together they never exceed its mobile film.
-    for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t a_i = 0; a_i < m; ++a_i) {
+      const std::uint32_t i = active_[a_i];
       if (!(out_[i] > 0)) continue;
       scale_[i] = std::min(1.0, mobile_[i] / (out_[i] * h));
       if (!(border_width_[i] > 0)) continue;
       const Real v = std::min(drive_[i] * border_width_[i] * h * scale_[i], mobile_[i]);
       shed(i, v, take(i, v));
     }
-    for (std::size_t e = 0; e < edges_.size(); ++e) {
-      if (flux_[e] == 0) continue;
-      const Edge& edge = edges_[e];
-      const std::uint32_t from = flux_[e] > 0 ? edge.a : edge.b, to = flux_[e] > 0 ? edge.b : edge.a;
-      const Real v = std::min(std::abs(flux_[e]) * h * scale_[from], cap_[e]);
+    for (const Transfer& t : moving_) {
+      const Real v = std::min(t.rate * h * scale_[t.from], t.cap);
       // Blood in the donor's proportion at the substep's start (its outflows together never
       // exceed its mobile film, so never its blood).
-      const Real b = std::min(blood_[from], v * fraction_[from]);
-      film_[from] -= v;
-      blood_[from] = std::max(0.0, blood_[from] - b);
-      film_[to] += v;
-      blood_[to] += b;
-      arrive(to, v, b);
+      const Real b = std::min(blood_[t.from], v * fraction_[t.from]);
+      film_[t.from] -= v;
+      blood_[t.from] = std::max(0.0, blood_[t.from] - b);
+      film_[t.to] += v;
+      blood_[t.to] += b;
+      arrive(t.to, v, b);
+      if (!expanded_[t.to]) expand(t.to);
     }
     shed_overhangs();
     remaining = h == remaining ? 0.0 : remaining - h;

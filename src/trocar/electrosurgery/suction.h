@@ -6,8 +6,16 @@
 namespace trocar {
 
 /// An instrument's suction and irrigation (scene key "suction"; both flows 0: not a
-/// suction-irrigator). The figures marked "assumed" have no measurement behind them.
+/// suction-irrigator). The defaults are a 5 mm suction-irrigation cannula; figures marked
+/// "assumed" have no measurement behind them.
 struct SuctionSpec {
+  /// No suction and no irrigation (both flows 0): an instrument that is not a suction-irrigator.
+  static SuctionSpec none() {
+    SuctionSpec s;
+    s.suction_flow = s.irrigation_flow = 0;
+    return s;
+  }
+
   /// m³/s of liquid the open suction valve draws. Wall suction through a 5 mm cannula: medical
   /// suction's high-flow class draws ≥ 20 L/min of free air (ISO 10079-1); liquid, 50 times more
   /// viscous and limited by the tubing, comes far slower. Assumed: 1 L/min.

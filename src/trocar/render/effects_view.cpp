@@ -78,7 +78,7 @@ void EffectsView::clear() {
   wound_fed_.clear();
   vapour_seen_.clear();
   smoke_.reset();
-  fed_ = lost_ = 0;
+  fed_ = lost_ = spilled_ = irrigated_ = landed_ = landed_blood_ = suctioned_ = suctioned_blood_ = 0;
 }
 
 const BloodFilm* EffectsView::film(std::size_t t) const { return t < films_.size() ? films_[t].get() : nullptr; }
@@ -90,23 +90,98 @@ Real EffectsView::volume() const {
   return v;
 }
 
-Real EffectsView::dripped() const {
-  Real v = lost_;
+Real EffectsView::blood_volume() const {
+  Real v = 0;
+  for (const auto& f : films_)
+    if (f) v += f->blood_volume();
+  return v;
+}
+
+Real EffectsView::pool() const {
+  Real v = lost_ + spilled_ - landed_;
   for (const auto& f : films_)
     if (f) v += f->dripped();
   return v;
 }
 
-BloodFilm* EffectsView::ensure_film(std::size_t t, const TissueModel& model) {
-  if (films_.size() <= t) {
-    films_.resize(t + 1);
-    film_versions_.resize(t + 1, 0);
+Real EffectsView::pool_blood() const {
+  Real v = lost_ - landed_blood_;
+  for (const auto& f : films_)
+    if (f) v += f->dripped_blood();
+  return v;
+}
+
+void EffectsView::ensure_films(std::span<const TissueModel> models) {
+  if (films_.size() < models.size()) {
+    films_.resize(models.size());
+    film_versions_.resize(models.size(), 0);
   }
-  if (!films_[t]) {
-    films_[t] = std::make_unique<BloodFilm>(model.triangles, model.rest, film_properties_);
-    film_versions_[t] = model.version;
+  for (std::size_t t = 0; t < models.size(); ++t)
+    if (!films_[t]) {
+      films_[t] = std::make_unique<BloodFilm>(models[t].triangles, models[t].rest, film_properties_);
+      film_versions_[t] = models[t].version;
+    }
+}
+
+void EffectsView::irrigate(const ViewSnapshot& snap, Real dt) {
+  for (const InstrumentView& inst : snap.instruments) {
+    if (!inst.irrigation || !(inst.suction_spec.irrigation_flow > 0)) continue;
+    const Real volume = inst.suction_spec.irrigation_flow * dt;
+    // The jet lands on the nearest vertex ahead of the tip along the shaft, within the reach and
+    // the jet's radius of its axis (over every surface).
+    const Real reach = inst.suction_spec.irrigation_reach, r2 = inst.suction_spec.jet_radius * inst.suction_spec.jet_radius;
+    std::size_t hit_tissue = films_.size();
+    std::uint32_t hit_vertex = 0;
+    Real nearest = reach;
+    for (std::size_t t = 0; t < films_.size() && t < snap.tissues.size(); ++t) {
+      if (!films_[t] || snap.tissues[t].size() != films_[t]->size()) continue;
+      const auto area = films_[t]->area();
+      for (std::size_t v = 0; v < snap.tissues[t].size(); ++v) {
+        const Vec3 d = snap.tissues[t][v] - inst.tip;
+        const Real along = d.dot(inst.forward);
+        if (!(along >= 0) || along > nearest || !(area[v] > 0)) continue;
+        if (d.squaredNorm() - along * along > r2) continue;
+        nearest = along;
+        hit_tissue = t;
+        hit_vertex = static_cast<std::uint32_t>(v);
+      }
+    }
+    irrigated_ += volume;
+    if (hit_tissue >= films_.size()) {
+      spilled_ += volume;  // nothing ahead within reach: the jet runs off out of sight
+      continue;
+    }
+    // It splashes over the jet's cross-section around where it hits: the vertices of that surface
+    // within the jet's radius of the hit vertex, in proportion to their areas.
+    BloodFilm& film = *films_[hit_tissue];
+    const std::vector<Vec3>& x = snap.tissues[hit_tissue];
+    const Vec3 hit = x[hit_vertex];
+    const auto area = film.area();
+    Real total = 0;
+    for (std::size_t v = 0; v < x.size(); ++v)
+      if ((x[v] - hit).squaredNorm() <= r2) total += area[v];
+    for (std::size_t v = 0; v < x.size(); ++v)
+      if (area[v] > 0 && (x[v] - hit).squaredNorm() <= r2)
+        film.add_saline(static_cast<std::uint32_t>(v), volume * (area[v] / total));
   }
-  return films_[t].get();
+}
+
+void EffectsView::draw_in(const ViewSnapshot& snap, Real dt, bool fluid, bool smoke) {
+  for (const InstrumentView& inst : snap.instruments) {
+    if (!inst.suction) continue;
+    // Fluid: up to the valve's flow over dt, from every surface within its radius, in tissue order.
+    Real budget = fluid ? inst.suction_spec.suction_flow * dt : 0.0;
+    for (std::size_t t = 0; t < films_.size() && t < snap.tissues.size() && budget > 0; ++t) {
+      if (!films_[t] || snap.tissues[t].size() != films_[t]->size()) continue;
+      Real blood = 0;
+      const Real removed =
+          films_[t]->remove_within(snap.tissues[t], inst.tip, inst.suction_spec.suction_radius, budget, &blood);
+      suctioned_ += removed;
+      suctioned_blood_ += blood;
+      budget -= removed;
+    }
+    if (smoke && smoke_) smoke_->suction(inst.tip, inst.suction_spec.smoke_radius, dt);
+  }
 }
 
 Real EffectsView::update(const ViewSnapshot& snap, std::span<const TissueModel> models, const EffectsSwitches& on) {
@@ -136,16 +211,32 @@ Real EffectsView::update(const ViewSnapshot& snap, std::span<const TissueModel> 
         lost_ += more;
         continue;
       }
-      ensure_film(wound.tissue, models[wound.tissue])->add(wound.vertex, more);  // a bad vertex: dripped
+      ensure_films(models);
+      films_[wound.tissue]->add(wound.vertex, more);  // a bad vertex: dripped
     }
-    if (dt > 0)
-      for (std::size_t t = 0; t < films_.size() && t < snap.tissues.size(); ++t) {
-        if (!films_[t] || snap.tissues[t].size() != films_[t]->size()) continue;
+    if (dt > 0) {
+      for (const InstrumentView& inst : snap.instruments)
+        if (inst.irrigation) ensure_films(models);
+      irrigate(snap, dt);
+      film_pointers_.clear();
+      film_positions_.clear();
+      for (std::size_t t = 0; t < films_.size(); ++t) {
+        const bool placed = films_[t] && t < snap.tissues.size() && snap.tissues[t].size() == films_[t]->size();
+        film_pointers_.push_back(films_[t].get());
+        film_positions_.push_back(placed ? std::span<const Vec3>(snap.tissues[t]) : std::span<const Vec3>());
+        if (!placed) continue;
         const Vec3 g = t < gravity_.size() ? gravity_[t] : Vec3(0, 0, -9.81);
         const int chunks = std::min(kBloodChunks, std::max(1, int(std::ceil(dt / kBloodChunk - 1e-9))));
         const Real step = std::min(dt, kBloodChunk * kBloodChunks) / chunks;
         for (int k = 0; k < chunks; ++k) films_[t]->step(snap.tissues[t], g, step);
       }
+      // What ran off or dripped falls onto the surfaces below (the first tissue's gravity: one
+      // scene, one gravity).
+      const LandingTally landed = landing_.land(film_pointers_, film_positions_,
+                                                gravity_.empty() ? Vec3(0, 0, -9.81) : gravity_[0]);
+      landed_ += landed.landed;
+      landed_blood_ += landed.landed_blood;
+    }
   }
 
   // Smoke: each electrode's new vaporisation energy, emitted where it boils tissue.
@@ -163,6 +254,7 @@ Real EffectsView::update(const ViewSnapshot& snap, std::span<const TissueModel> 
     smoke_->set_venting(on.venting);
     if (dt > 0) smoke_->step(dt);
   }
+  if (dt > 0) draw_in(snap, dt, on.blood, on.smoke);
   return dt;
 }
 
@@ -171,14 +263,14 @@ bool EffectsView::fill(const ViewSnapshot& snap, std::size_t t, std::size_t vert
   const std::vector<float>* burn = t < snap.tissue_effects.size() ? &snap.tissue_effects[t] : nullptr;
   if (burn && burn->size() != 4 * vertex_count) burn = nullptr;  // not this model's
   const BloodFilm* f = blood ? film(t) : nullptr;
-  if (f && f->size() != vertex_count) f = nullptr;
+  if (f && (f->size() != vertex_count || !f->touched())) f = nullptr;
   if (!burn && !f) return false;
   if (burn) out.assign(burn->begin(), burn->end());
   else out.assign(4 * vertex_count, 0.0f);
   if (f) {
     const auto stain = f->stain();
     for (std::size_t v = 0; v < vertex_count; ++v) {
-      out[4 * v + 2] = float(std::min<Real>(1, f->thickness(v) / kFullFilm));
+      out[4 * v + 2] = float(std::min<Real>(1, f->blood_thickness(v) / kFullFilm));
       out[4 * v + 3] = float(stain[v]);
     }
   }

@@ -8,13 +8,18 @@
 ///
 /// Per frame (update): the frame's simulated dt is the snapshot's time minus the last one's; a
 /// jump back in time (a reset, a replay restarted) clears everything. Each wound feeds the film of
-/// its tissue with its increase in emitted volume since the last frame, at its vertex; the films
-/// flow with the snapshot's positions and the scene's gravity; each electrode's vapour source
-/// emits smoke for the increase of its energy at its `at`, `up`, and the smoke steps by dt.
+/// its tissue with its increase in emitted volume since the last frame, at its vertex; an open
+/// irrigation valve (InstrumentView::irrigation) jets saline onto the first surface ahead of the
+/// tip; the films (one per tissue, made when the first fluid arrives) flow with the snapshot's
+/// positions and the scene's gravity; what drips or runs off a surface lands on the first surface
+/// below it (DripLanding) or falls out of sight into the pool; an open suction valve draws fluid
+/// within its radius of the tip, and smoke within its smoke radius. Each electrode's vapour
+/// source emits smoke for the increase of its energy at its `at`, `up`, and the smoke steps by dt.
 ///
-/// Blood that runs off a tissue (BloodFilm::dripped) goes to "the pool", which is not drawn yet.
-/// Conservation, by construction: fed() = volume() + dripped() to rounding (lost() — blood of a
-/// wound on a tissue the renderer has no model of — is counted in dripped()).
+/// Conservation, by construction, to rounding:
+///   fed() = blood_volume() + pool_blood() + suctioned_blood()
+///   fed() + irrigated() = volume() + pool() + suctioned()
+/// (lost() — blood of a wound on a tissue the renderer has no model of — is in the pool.)
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -24,6 +29,7 @@
 
 #include "trocar/core/types.h"
 #include "trocar/electrosurgery/bleeding.h"
+#include "trocar/electrosurgery/drip_landing.h"
 #include "trocar/electrosurgery/smoke.h"
 #include "trocar/sim/view_snapshot.h"
 
@@ -66,25 +72,36 @@ class EffectsView {
   void clear();
 
   /// Writes tissue t's 4 floats per vertex for `vertex_count` vertices into `out`: coagulation and
-  /// charring from the snapshot, blood film (thickness / 0.5 mm, clamped to 1) and stain from its
-  /// film. Returns false (and leaves `out` alone) when the tissue has no effect at all: it is then
+  /// charring from the snapshot, blood film (the blood's thickness / 0.5 mm, clamped to 1: how red
+  /// a film looks goes with the blood in it, Beer–Lambert, so diluted blood is paler and saline
+  /// alone clear) and stain from its film. Returns false (and leaves `out` alone) when the tissue has no effect at all: it is then
   /// drawn as if nothing had happened to it, by the default program.
   bool fill(const ViewSnapshot& snap, std::size_t t, std::size_t vertex_count, bool blood, std::vector<float>& out) const;
 
-  /// Tissue t's film, or null while no wound has fed it.
+  /// Tissue t's film, or null before the first fluid arrived (then every tissue has one).
   const BloodFilm* film(std::size_t t) const;
   /// The smoke, or null before any electrode boiled tissue.
   const SmokeField* smoke() const { return smoke_.get(); }
 
-  Real fed() const { return fed_; }   ///< m³ the wounds have fed into films (lost() included)
-  Real volume() const;               ///< m³ on the films now
-  Real dripped() const;              ///< m³ run off the films into the pool, lost() included
+  Real fed() const { return fed_; }   ///< m³ of blood the wounds have fed (lost() included)
+  Real irrigated() const { return irrigated_; }  ///< m³ of saline jetted
+  Real volume() const;               ///< m³ of fluid on the films now
+  Real blood_volume() const;         ///< m³ of blood on the films now
+  Real pool() const;                 ///< m³ of fluid fallen off every surface, lost() included
+  Real pool_blood() const;           ///< m³ of blood of it
+  Real suctioned() const { return suctioned_; }  ///< m³ of fluid drawn in by suction
+  Real suctioned_blood() const { return suctioned_blood_; }  ///< m³ of blood of it
   Real lost() const { return lost_; }  ///< m³ of wounds on tissues without a model
   /// The blood film's thickness drawn as 1 (m).
   static constexpr Real kFullFilm = 5e-4;
 
  private:
-  BloodFilm* ensure_film(std::size_t t, const TissueModel& model);
+  /// Makes every tissue's film (dry) when the first fluid arrives: any surface may receive drips.
+  void ensure_films(std::span<const TissueModel> models);
+  /// Saline from every open irrigation valve onto the first surface ahead of its tip, for dt.
+  void irrigate(const ViewSnapshot& snap, Real dt);
+  /// Every open suction valve draws fluid and smoke in at its tip, for dt.
+  void draw_in(const ViewSnapshot& snap, Real dt, bool fluid, bool smoke);
 
   std::vector<Vec3> gravity_;
   SmokeSettings smoke_settings_;
@@ -96,7 +113,13 @@ class EffectsView {
   std::vector<Real> wound_fed_;                ///< per wound: its emitted volume fed so far
   std::vector<Real> vapour_seen_;              ///< per instrument: its vapour energy emitted so far
   std::unique_ptr<SmokeField> smoke_;
-  Real fed_ = 0, lost_ = 0;
+  DripLanding landing_;
+  std::vector<BloodFilm*> film_pointers_;      ///< films_ as DripLanding takes them
+  std::vector<std::span<const Vec3>> film_positions_;
+  Real fed_ = 0, lost_ = 0, irrigated_ = 0;
+  Real spilled_ = 0;                           ///< saline jetted at nothing within reach
+  Real landed_ = 0, landed_blood_ = 0;         ///< of the films' drips, what landed on a film
+  Real suctioned_ = 0, suctioned_blood_ = 0;
 };
 
 }  // namespace trocar

@@ -16,14 +16,8 @@ ElectrodeSpec read_electrode(const JsonReader& r) {
   return e;
 }
 
-SuctionSpec no_suction() {
-  SuctionSpec s;
-  s.suction_flow = s.irrigation_flow = 0;
-  return s;
-}
-
 SuctionSpec read_suction(const JsonReader& r) {
-  if (!r.is_object()) return r.boolean() ? SuctionSpec{} : no_suction();
+  if (!r.is_object()) return r.boolean() ? SuctionSpec{} : SuctionSpec::none();
   r.expect_keys({"suction_flow", "suction_radius", "smoke_radius", "irrigation_flow", "irrigation_reach", "jet_radius"});
   SuctionSpec s;
   if (r.has("suction_flow")) s.suction_flow = r.at("suction_flow").number_at_least(0);

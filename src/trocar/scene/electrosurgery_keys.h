@@ -15,9 +15,6 @@ ElectrodeSpec read_electrode(const JsonReader& r);
 /// valve does nothing); a radius or reach must be > 0.
 SuctionSpec read_suction(const JsonReader& r);
 
-/// No suction and no irrigation (both flows 0): an instrument without the "suction" key.
-SuctionSpec no_suction();
-
 /// "thermal": {"density", "specific_heat", "conductivity", "heated_depth", "water_fraction",
 /// "perfusion", "body_temperature" (K), "arrhenius_rate", "activation_energy"}, each optional
 /// over the soft-tissue defaults (electrosurgery/thermal.h).

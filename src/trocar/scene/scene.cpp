@@ -256,7 +256,7 @@ void read_instrument(const JsonReader& r, std::size_t index, Scene& scene, const
   if (source.is_object() && source.has("generate")) body.tool = source.at("generate").string();
   if (r.has("electrode")) body.electrode = read_electrode(r.at("electrode"));  // electrosurgery_keys.h
   // A suction-irrigator only with the key, as an electrode (SuctionSpec's own defaults are a live one).
-  body.suction = r.has("suction") ? read_suction(r.at("suction")) : no_suction();
+  body.suction = r.has("suction") ? read_suction(r.at("suction")) : SuctionSpec::none();
   scene.devices.push_back(std::move(device));
 }
 

@@ -91,7 +91,7 @@ struct InstrumentBody {
   /// Its suction and irrigation (scene key "suction"; flows 0: none): while a valve is open
   /// (Simulation::set_suction, set_irrigation) it draws fluid and smoke in at the tip, or jets
   /// saline out of it (drawn and flowed by the renderer: docs/electrosurgery.md).
-  SuctionSpec suction;
+  SuctionSpec suction = SuctionSpec::none();
 };
 
 /// Static geometry (role kRigid): bones, a table, ports. Only detected, never moved.
