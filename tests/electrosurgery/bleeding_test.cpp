@@ -265,7 +265,7 @@ TEST(BloodFilm, SalineArrivingWashesTheStainByTheStatedFactor) {
   film.add(v, 40e-6 * area);
   EXPECT_NEAR(film.stain()[v], 1 - std::exp(-40e-6 / p.stain_thickness), 1e-12);
   film.add_saline(v, 0.5e-3 * area);
-  // D = 40 µm · e^(−0.5 mm / 1 mm); stain 1 − e^(−D / 50 µm).
+  // D = 40 µm · e^(−0.5 mm / 0.1 mm); stain 1 − e^(−D / 50 µm).
   const Real d = 40e-6 * std::exp(-0.5e-3 / p.wash_thickness);
   EXPECT_NEAR(film.arrived()[v], d, 1e-15);
   EXPECT_NEAR(film.stain()[v], 1 - std::exp(-d / p.stain_thickness), 1e-12);

@@ -576,6 +576,7 @@ namespace {
 /// `keep` names the frames to write.
 struct DocRun {
   std::unique_ptr<Simulation> sim;
+  const Renderer* drawing = nullptr;  ///< the renderer while run() runs
   CameraView cam;
   SceneLook look;
   RenderOptions options = [] {
@@ -588,6 +589,7 @@ struct DocRun {
     const char* dir = std::getenv("TROCAR_DOC_FRAMES");
     OffscreenContext ctx(1280, 720, 4);
     Renderer renderer(sim->world(), look);
+    drawing = &renderer;
     ViewSnapshot snap;
     Image img;
     std::size_t frame = 0;
@@ -603,10 +605,14 @@ struct DocRun {
         if (std::abs(sim->time() - t) < 0.5 / 30) {
           ctx.read(img);
           write_png((std::filesystem::path(dir) / name).c_str(), img);
-          std::printf("%s at %.3f s: %zu puffs, %.3g ml of blood on the films\n", name.c_str(), sim->time(),
-                      renderer.effects().smoke() ? renderer.effects().smoke()->size() : 0, 1e6 * renderer.effects().volume());
+          const EffectsView& e = renderer.effects();
+          std::printf("%s at %.3f s: %zu puffs; on the films %.3g ml of blood, %.3g ml of saline; %.3g ml drawn "
+                      "in (%.3g ml blood), %.3g ml in the pool\n", name.c_str(), sim->time(),
+                      e.smoke() ? e.smoke()->size() : 0, 1e6 * e.blood_volume(), 1e6 * (e.volume() - e.blood_volume()),
+                      1e6 * e.suctioned(), 1e6 * e.suctioned_blood(), 1e6 * e.pool());
         }
     }
+    drawing = nullptr;
   }
 };
 
@@ -662,11 +668,9 @@ TEST(Effects, DISABLED_WritesTheDocumentationFrames) {
     std::printf("incision: %u triangles cut (%.1f mm²)\n", r.sim->burn_tally(0).cut_triangles,
                 1e6 * r.sim->burn_tally(0).cut_area);
   }
-  {
-    // (c) A bleed: a 1.5 mm artery (a vessel of 2.5 mm radius lying across the peritoneum) cut
-    // open by scissors at 0.1 s; at 0.9 s the hook's heat at the bleeding point seals it.
-    DocRun r;
-    {
+  // A 1.5 mm artery (a vessel of 2.5 mm radius lying across the peritoneum), a hook parked
+  // beside it, and (with `cannula`) a suction-irrigator parked too.
+  const auto artery_on_peritoneum = [](bool cannula) {
       World world;
       const TriMesh sheet = make_sheet(0.08, 0.08, 40, 40);
       FixedSelection edge;
@@ -685,11 +689,15 @@ TEST(Effects, DISABLED_WritesTheDocumentationFrames) {
       const Quat q(Eigen::AngleAxis<Real>(std::numbers::pi / 2, Vec3::UnitZ()));
       world.add_instrument("hook", Instrument(make_hook_probe().mesh, Vec3::UnitZ()),
                            KeyframeMotion({{0, Vec3(0.025, -0.015, 0.03), q, 0}}));
-      r.sim = std::make_unique<Simulation>(std::move(world), SimulationSettings{});
-    }
-    r.cam = scope_at(Vec3(0, -0.016, 0.026), Vec3(0, 0.004, 0.002));
-    bool cut = false, sealed = false;
-    r.run(2.2, [&](Simulation& s) {
+      if (cannula) {
+        InstrumentBody& c = world.add_instrument("cannula", Instrument(make_suction_irrigator().mesh, Vec3::UnitZ()),
+                                                 KeyframeMotion({{0, Vec3(0.03, 0.02, 0.04), Quat::Identity(), 0}}));
+        c.suction = SuctionSpec{};
+      }
+      return std::make_unique<Simulation>(std::move(world), SimulationSettings{});
+  };
+  // Scissors open the artery's top at 0.1 s; at 0.9 s the hook's heat at the bleeding point seals it.
+  const auto cut_then_seal = [](Simulation& s, bool& cut, bool& sealed) {
       if (!cut && s.time() >= 0.1) {
         cut = true;
         const std::vector<std::uint32_t> top = triangles_near(s, 1, Vec3(0.0, 0.004, 0.0053), 0.0012);
@@ -704,10 +712,44 @@ TEST(Effects, DISABLED_WritesTheDocumentationFrames) {
             if ((artery.settings.rest_positions[v] - artery.settings.rest_positions[wound.vertex]).norm() < 0.0018)
               s.heat(1, k, heat_for(s, 1, k, 75));
       }
-    }, {{0.8, "electrosurgery_bleed_before.png"}, {2.2, "electrosurgery_bleed_after.png"}});
+  };
+  {
+    // (c) A bleed, before and after haemostasis.
+    DocRun r;
+    r.sim = artery_on_peritoneum(false);
+    r.cam = scope_at(Vec3(0, -0.016, 0.026), Vec3(0, 0.004, 0.002));
+    bool cut = false, sealed = false;
+    r.run(2.2, [&](Simulation& s) { cut_then_seal(s, cut, sealed); },
+          {{0.8, "electrosurgery_bleed_before.png"}, {2.2, "electrosurgery_bleed_after.png"}});
     ASSERT_FALSE(r.sim->bleeding().wounds().empty());
     std::printf("bleed: %.3g ml bled; wound %s\n", 1e6 * r.sim->bleeding().emitted(),
                 r.sim->bleeding().state(0) == WoundState::kSealed ? "sealed" : "still open");
+  }
+  {
+    // (d) The same bleed, sealed, then cleaned: at 1.0 s a suction-irrigator comes in over the
+    // wound and irrigates it for 0.2 s (2 ml of saline: the blood diluted and washed down); from
+    // 1.6 s to 3 s it chases the blood on the peritoneum and draws it in.
+    DocRun r;
+    r.sim = artery_on_peritoneum(true);
+    r.cam = scope_at(Vec3(0, -0.016, 0.026), Vec3(0, 0.004, 0.002));
+    bool cut = false, sealed = false;
+    Real next_move = 0;
+    const Quat aim(Eigen::AngleAxis<Real>(std::numbers::pi / 4, Vec3::UnitY()));  // points down and to −x
+    r.run(3.0, [&](Simulation& s) {
+      cut_then_seal(s, cut, sealed);
+      if (s.time() >= 1.0 && s.time() < 1.001) s.place_instrument(1, Pose{aim, Vec3(0.009, 0.004, 0.013)}, 0);
+      s.set_irrigation(1, s.time() >= 1.0 && s.time() < 1.2);
+      // As a surgeon chases it: every 0.2 s to the peritoneum's bloodiest place.
+      if (s.time() >= 1.6 && s.time() >= next_move) {
+        next_move = s.time() + 0.2;
+        const BloodFilm* film = r.drawing->effects().film(0);
+        std::uint32_t most = 0;
+        for (std::uint32_t v = 0; film && v < film->size(); ++v)
+          if (film->blood()[v] > film->blood()[most]) most = v;
+        s.place_instrument(1, Pose{aim, s.world().tissues[0]->state.positions[most] + Vec3(0, 0, 0.0015)}, 0);
+      }
+      s.set_suction(1, s.time() >= 1.6);
+    }, {{1.0, "electrosurgery_before_irrigation.png"}, {3.0, "electrosurgery_suctioned.png"}});
   }
 }
 

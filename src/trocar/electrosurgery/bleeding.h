@@ -102,9 +102,11 @@ struct FilmProperties {
   /// Pa·s: saline's viscosity, for irrigation fluid (water at 37 °C: 0.69 mPa·s, CRC Handbook of
   /// Chemistry and Physics; 0.9 % NaCl adds about 2 %).
   Real saline_viscosity = 0.7e-3;
-  /// m of saline arriving at a vertex that fades its stain's measure to 1/e (assumed: a millimetre
-  /// of irrigation rinses a stained patch visibly clean).
-  Real wash_thickness = 1e-3;
+  /// m of saline arriving at a vertex that fades its stain's measure to 1/e (assumed: a tenth of a
+  /// millimetre of irrigation passing rinses a stained patch visibly; under a steady mixture of
+  /// blood fraction f the measure settles at wash_thickness f / (1 − f), so blood diluted 1:10
+  /// stains to 1 − e^(−0.22) = 0.2 where whole blood stains fully).
+  Real wash_thickness = 1e-4;
   /// Largest fraction of its mobile film a vertex gives per substep (Courant number of the
   /// kinematic wave is 3× this: 0.3 keeps the upwind scheme below 1).
   Real courant = 0.3;

@@ -44,7 +44,10 @@ LandingTally DripLanding::land(std::span<BloodFilm* const> films, std::span<cons
         if (d2 < nearest) nearest = d2, into = &c;
       }
       if (into == nullptr || (nearest > r2 && columns_.size() < most)) {
-        columns_.push_back({x, down.dot(x), drips[i], blood[i]});
+        Column c{x, down.dot(x), drips[i], blood[i]};
+        c.source = k;
+        c.from = x;
+        columns_.push_back(c);
         continue;
       }
       const Real total = into->volume + drips[i];
@@ -72,6 +75,7 @@ LandingTally DripLanding::land(std::span<BloodFilm* const> films, std::span<cons
       const Vec3 h = horizontal(x);
       for (Column& c : columns_) {
         if (!(depth > c.start + settings_.clearance)) continue;
+        if (k == c.source && (x - c.from).squaredNorm() < 4 * r2) continue;  // where it left
         const Real d2 = (h - c.line).squaredNorm();
         if (d2 > r2) continue;
         const Real score = depth + std::sqrt(d2);

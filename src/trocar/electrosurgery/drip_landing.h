@@ -4,7 +4,9 @@
 /// Blood (or irrigation fluid) that runs off a surface's open border or drips from an overhang
 /// (BloodFilm's pending drips) falls along gravity. It lands on the first surface under its fall
 /// line: of the vertices within `radius` of the line horizontally and at least `clearance` below
-/// where it left (so it never lands back where it came from), the one with the least depth plus
+/// where it left, and not of the surface it left within 2 `radius` of where it left (so it never
+/// lands back where it came from; a pendant drop a few millimetres long touches whatever lies that
+/// close under it, so the clearance is small), the one with the least depth plus
 /// horizontal distance (the nearest vertex of the highest surface); with none there it falls out of sight
 /// into the pool (the pelvis, the lowest point of the cavity). A fall takes time (5 cm in 0.1 s),
 /// so landing once per frame, not per physics step, loses nothing that can be seen.
@@ -26,7 +28,7 @@ struct LandingSettings {
   /// m: a drop lands on a vertex within this horizontal distance of its fall line (about a mesh
   /// spacing: a surface below is found wherever it has a vertex under the line).
   Real radius = 0.004;
-  Real clearance = 0.001;       ///< m: at least this far below the drip's start
+  Real clearance = 1e-4;        ///< m: at least this far below the drip's start
   std::size_t max_columns = 32; ///< fall lines per call (more drips merge into the nearest)
 };
 
@@ -60,6 +62,8 @@ class DripLanding {
     std::uint32_t vertex = 0;
     bool found = false;
     Vec3 line = Vec3::Zero();  ///< `at` with its component along gravity removed
+    std::size_t source = 0;    ///< the surface of its first drip
+    Vec3 from = Vec3::Zero();  ///< where its first drip left
   };
   LandingSettings settings_;
   std::vector<Column> columns_;
