@@ -49,6 +49,7 @@ struct Options {
   double fps = 30;
   std::string size = "1280x720";
   std::string camera = "scope";
+  bool no_metrics = false;  // --no-metrics: the step as the real-time loop runs it
 };
 
 /// median, p99 and max of samples (core/statistics.h; 0 for none).
@@ -113,6 +114,7 @@ void run(const Options& o) {
   Scene scene = load_scene(o.scene);
   apply_method_option(scene, o.method);
   if (o.duration >= 0) scene.duration = o.duration;
+  if (o.no_metrics) scene.settings.measure_penetration = false;
   const double dt = scene.timestep;
   const std::size_t steps = step_count(scene.duration, dt);
 
@@ -323,6 +325,9 @@ void add_run_command(CLI::App& app, int& exit_code) {
                   "Write a session recording (binary, docs/recording.md) that `trocar replay` redoes and `trocar "
                   "score` assesses");
   cmd->add_flag("--quiet,-q", options->quiet, "Print nothing but errors");
+  cmd->add_flag("--no-metrics", options->no_metrics,
+                "No exact penetration and tunneling metrics: the step as the real-time loop runs it (its timings "
+                "are the budget's; penetration and tunneling report 0)");
   cmd->add_option("--frames", options->frames, "Render PNG frames headless (EGL) into this folder");
   cmd->add_option("--video", options->video, "Encode the frames into this MP4 with ffmpeg (frames in FILE.frames/ "
                                              "unless --frames names a folder)");

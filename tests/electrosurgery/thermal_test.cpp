@@ -188,5 +188,40 @@ TEST(ThermalDamage, RemapKeepsTheStateOfTheRemainingTriangles) {
   EXPECT_TRUE(field.hot());
 }
 
+TEST(ThermalDamage, ACutsRemapConductsExactlyAsAFieldBuiltOnTheCutSurface) {
+  // The remap keeps the old links between kept triangles; a field built from scratch on the cut
+  // surface (the same state set by heating to it) must then step to the same bits.
+  const Grid g;
+  ThermalField field(no_perfusion(), g.triangles, g.positions, g.areas);
+  std::vector<Real> watts(g.triangles.size(), 0.0);
+  watts[20] = 3.0;
+  watts[41] = 2.0;
+  for (int step = 0; step < 40; ++step) field.step(watts, 1e-3);
+  std::vector<std::uint32_t> origin;
+  std::vector<Triangle> kept;
+  for (std::uint32_t t = 0; t < g.triangles.size(); ++t)
+    if (t != 21 && t != 22 && t != 40) {
+      origin.push_back(t);
+      kept.push_back(g.triangles[t]);
+    }
+  const std::vector<Real> areas(kept.size(), 2e-6);
+  field.remap(origin, kept, g.positions, areas);
+  // The reference: built on the cut surface, given the same temperatures through add_heat.
+  ThermalField fresh(no_perfusion(), kept, g.positions, areas);
+  const ThermalProperties p = no_perfusion();
+  const Real capacity = p.density * 2e-6 * p.heated_depth * p.specific_heat;  // J/K per triangle
+  for (std::uint32_t k = 0; k < kept.size(); ++k)
+    fresh.add_heat(k, (field.temperature()[k] - fresh.temperature()[k]) * capacity);
+  ASSERT_LT(field.temperature()[19], p.boiling_temperature);  // below boiling: add_heat sets it exactly
+  std::vector<Real> now(kept.size(), 0.0);
+  now[19] = 3.0;
+  for (int step = 0; step < 40; ++step) {
+    field.step(now, 1e-3);
+    fresh.step(now, 1e-3);
+  }
+  for (std::uint32_t k = 0; k < kept.size(); ++k)
+    EXPECT_NEAR(field.temperature()[k] - fresh.temperature()[k], 0.0, 1e-9) << k;
+}
+
 }  // namespace
 }  // namespace trocar

@@ -127,6 +127,7 @@ TEST(CutTopology, NothingRemovedIsTheSameModel) {
       expect_identical(c.settings, *s);
       EXPECT_EQ(c.vertex_origin, iota_vector(s->vertex_count()));
       EXPECT_EQ(c.triangle_origin, iota_vector(s->triangles.size()));
+      EXPECT_EQ(c.spring_origin, iota_vector(s->springs.size()));
     }
   }
   EXPECT_TRUE(sphere.closed);
@@ -426,6 +427,16 @@ TEST(CutTopology, SeededSoakKeepsTheModelConsistent) {
     for (std::size_t e = 0; e < topology.edge_count(); ++e) interior += topology.edge_valence(e) == 2;
     EXPECT_EQ(m.structural_count, topology.edge_count());
     EXPECT_EQ(m.springs.size() - m.structural_count, interior);
+    // Each spring copies the old one between the same (original) vertices, of the same kind.
+    ASSERT_EQ(r.spring_origin.size(), m.springs.size());
+    for (std::size_t k = 0; k < m.springs.size(); ++k) {
+      const Spring& p = m.springs[k];
+      const Spring& was = s.springs[r.spring_origin[k]];
+      EXPECT_EQ(std::minmax(r.vertex_origin[p.i], r.vertex_origin[p.j]), std::minmax(was.i, was.j)) << k;
+      EXPECT_EQ(k < m.structural_count, r.spring_origin[k] < s.structural_count) << k;
+      EXPECT_EQ(p.stiffness, was.stiffness) << k;
+      EXPECT_EQ(p.rest_length, was.rest_length) << k;
+    }
     for (std::size_t k = 0; k < m.springs.size(); ++k) {
       const Spring& p = m.springs[k];
       ASSERT_LT(p.i, p.j);

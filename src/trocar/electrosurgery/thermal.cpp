@@ -22,7 +22,12 @@ ThermalField::ThermalField(const ThermalProperties& properties, std::span<const 
 
 void ThermalField::build(std::span<const Triangle> triangles, std::span<const Vec3> rest_positions,
                          std::span<const Real> rest_areas) {
-  const std::size_t n = triangles.size();
+  build_capacity(rest_areas);
+  build_conduction(triangles, rest_positions);
+}
+
+void ThermalField::build_capacity(std::span<const Real> rest_areas) {
+  const std::size_t n = rest_areas.size();
   capacity_.resize(n);
   vapour_energy_.resize(n);
   heat_.assign(n, 0.0);
@@ -31,7 +36,17 @@ void ThermalField::build(std::span<const Triangle> triangles, std::span<const Ve
     capacity_[t] = mass * properties_.specific_heat;
     vapour_energy_[t] = mass * properties_.water_fraction * properties_.latent_heat;
   }
-  build_conduction(triangles, rest_positions);
+}
+
+void ThermalField::update_max_rate() {
+  std::vector<Real> sum(capacity_.size(), 0.0);
+  for (const Link& l : links_) {
+    sum[l.a] += l.conductance;
+    sum[l.b] += l.conductance;
+  }
+  max_rate_ = 0;
+  for (std::size_t t = 0; t < sum.size(); ++t)
+    if (capacity_[t] > 0) max_rate_ = std::max(max_rate_, sum[t] / capacity_[t]);
 }
 
 void ThermalField::build_conduction(std::span<const Triangle> triangles, std::span<const Vec3> rest_positions) {
@@ -54,14 +69,7 @@ void ThermalField::build_conduction(std::span<const Triangle> triangles, std::sp
       if (!(apart > 0) || !(edge > 0)) continue;
       links_.push_back({other, t, properties_.conductivity * properties_.heated_depth * edge / apart});
     }
-  std::vector<Real> sum(triangles.size(), 0.0);
-  for (const Link& l : links_) {
-    sum[l.a] += l.conductance;
-    sum[l.b] += l.conductance;
-  }
-  max_rate_ = 0;
-  for (std::size_t t = 0; t < sum.size(); ++t)
-    if (capacity_[t] > 0) max_rate_ = std::max(max_rate_, sum[t] / capacity_[t]);
+  update_max_rate();
 }
 
 void ThermalField::step(std::span<const Real> power, Real dt) {
@@ -123,17 +131,31 @@ void ThermalField::add_heat(std::size_t t, Real joules) {
 
 void ThermalField::remap(std::span<const std::uint32_t> origin, std::span<const Triangle> triangles,
                          std::span<const Vec3> rest_positions, std::span<const Real> rest_areas) {
-  const std::size_t n = origin.size();
+  const std::size_t n = origin.size(), old_n = temperature_.size();
+  constexpr std::uint32_t kNone = ~std::uint32_t{0};
+  std::vector<std::uint32_t> now(old_n, kNone);  // old triangle → new (kNone: removed)
+  bool one_to_one = true;
   std::vector<Real> temperature(n), damage(n), vaporised(n);
   for (std::size_t k = 0; k < n; ++k) {
     temperature[k] = temperature_[origin[k]];
     damage[k] = damage_[origin[k]];
     vaporised[k] = vaporised_[origin[k]];
+    if (now[origin[k]] != kNone) one_to_one = false;
+    now[origin[k]] = static_cast<std::uint32_t>(k);
   }
   temperature_ = std::move(temperature);
   damage_ = std::move(damage);
   vaporised_ = std::move(vaporised);
-  build(triangles, rest_positions, rest_areas);
+  if (!one_to_one) {
+    build(triangles, rest_positions, rest_areas);
+    return;
+  }
+  build_capacity(rest_areas);
+  std::size_t kept = 0;
+  for (const Link& l : links_)
+    if (now[l.a] != kNone && now[l.b] != kNone) links_[kept++] = {now[l.a], now[l.b], l.conductance};
+  links_.resize(kept);
+  update_max_rate();
 }
 
 Real ThermalField::stored() const {

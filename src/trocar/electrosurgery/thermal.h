@@ -69,7 +69,10 @@ class ThermalField {
   void vaporise(std::size_t t) { vaporised_[t] = std::max<Real>(vaporised_[t], 1); }
 
   /// Keeps the state of the triangles that remain after a topology change: new triangle k takes
-  /// old triangle origin[k]'s state (and the conduction is rebuilt on the new triangles).
+  /// old triangle origin[k]'s state. When `origin` is one-to-one (a cut: kept triangles keep
+  /// their rest shape, and two that shared an edge still share it, a vertex being split only
+  /// between fans), the conduction links are the old ones between kept triangles, renumbered (no
+  /// edge table: the same links, in the same order, as a rebuild); otherwise they are rebuilt.
   void remap(std::span<const std::uint32_t> origin, std::span<const Triangle> triangles,
              std::span<const Vec3> rest_positions, std::span<const Real> rest_areas);
 
@@ -96,6 +99,10 @@ class ThermalField {
   void build(std::span<const Triangle> triangles, std::span<const Vec3> rest_positions,
              std::span<const Real> rest_areas);
   void build_conduction(std::span<const Triangle> triangles, std::span<const Vec3> rest_positions);
+  /// Heat capacities and vapour energies from the rest areas.
+  void build_capacity(std::span<const Real> rest_areas);
+  /// The largest ΣG/C (the explicit conduction's stability bound) from links_ and capacity_.
+  void update_max_rate();
 
   ThermalProperties properties_;
   std::vector<Real> capacity_;     ///< C per triangle, J/K

@@ -32,10 +32,27 @@ Pose interpolate_pose(const Pose& a, const Pose& b, Real f) {
 
 void InstrumentContacts::reset(std::span<const Vec3> positions, std::span<const Triangle> triangles, bool closed,
                                std::span<const SolverInstrument> instruments, const ResponseSettings& settings) {
+  settings_ = settings;
+  per_.clear();
+  per_.resize(instruments.size());
+  for (std::size_t i = 0; i < instruments.size(); ++i) {
+    PerInstrument& p = per_[i];
+    p.in = instruments[i];
+    const std::size_t samples = p.in.field != nullptr ? p.in.field->samples().size() : 0;
+    p.samples.reserve(samples);
+    p.sample_world.reserve(samples);
+    p.pairs.reserve(kMaxPairs);
+    p.points.reserve(kMaxPoints);
+    p.hits.assign(p.in.instrument != nullptr ? p.in.instrument->world_positions().size() : 0, 0);
+    build_sample_grid(p);
+  }
+  set_surface(positions, triangles, closed);
+}
+
+void InstrumentContacts::set_surface(std::span<const Vec3> positions, std::span<const Triangle> triangles, bool closed) {
   const std::size_t vertex_count = positions.size();
   triangles_ = triangles;
   closed_ = closed;
-  settings_ = settings;
   vertex_first_.assign(vertex_count + 1, 0);
   for (const Triangle& t : triangles)
     for (const std::uint32_t v : t) ++vertex_first_[v + 1];
@@ -52,35 +69,24 @@ void InstrumentContacts::reset(std::span<const Vec3> positions, std::span<const 
   is_held_.assign(vertex_count, 0);
   touched_stamp_.assign(vertex_count, 0);
   moved_.reserve(4 * vertex_count);
-  per_.clear();
-  per_.resize(instruments.size());
-  for (std::size_t i = 0; i < instruments.size(); ++i) {
-    PerInstrument& p = per_[i];
-    p.in = instruments[i];
+  for (PerInstrument& p : per_) {
+    p.candidates.clear();
+    p.near.clear();
     p.candidates.reserve(vertex_count);
     p.near.reserve(vertex_count);
     p.hint.assign(vertex_count, MeshDistance::kNoTriangle);
-    const std::size_t samples = p.in.field != nullptr ? p.in.field->samples().size() : 0;
-    p.samples.reserve(samples);
-    p.sample_world.reserve(samples);
-    p.pairs.reserve(kMaxPairs);
+    p.held.clear();
     p.held.reserve(vertex_count);
-    p.points.reserve(kMaxPoints);
-    p.hits.assign(p.in.instrument != nullptr ? p.in.instrument->world_positions().size() : 0, 0);
-    build_sample_grid(p);
   }
 }
 
 void InstrumentContacts::remodel(std::span<const Vec3> positions, std::span<const Triangle> triangles, bool closed,
                                  std::span<const std::uint32_t> vertex_origin) {
-  std::vector<SolverInstrument> instruments;
+  // The instruments' sides (their sample grids) stay; only the tissue's is rebuilt.
   std::vector<std::vector<HeldVertex>> held;
-  for (const PerInstrument& p : per_) {
-    instruments.push_back(p.in);
-    held.push_back(p.held);
-  }
+  for (const PerInstrument& p : per_) held.push_back(p.held);
   const std::size_t old_count = is_held_.size();
-  reset(positions, triangles, closed, instruments, settings_);
+  set_surface(positions, triangles, closed);
   std::vector<std::int64_t> slot(old_count, -1);
   for (std::size_t i = 0; i < per_.size(); ++i) {
     for (std::size_t k = 0; k < held[i].size(); ++k) slot[held[i][k].vertex] = static_cast<std::int64_t>(k);

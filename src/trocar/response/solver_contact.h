@@ -87,9 +87,9 @@ class InstrumentContacts final : public XpbdContacts {
   void reset(std::span<const Vec3> positions, std::span<const Triangle> triangles, bool closed,
              std::span<const SolverInstrument> instruments, const ResponseSettings& settings);
 
-  /// The tissue changed (a cut): sizes everything for its new rest positions and triangles like
-  /// reset(), with the same instruments and settings; every copy (vertex_origin: new → old vertex)
-  /// of a held vertex stays held. Allocates.
+  /// The tissue changed (a cut): its side is rebuilt for the new rest positions and triangles as
+  /// reset() builds it (the instruments' sample grids, which do not depend on it, are kept);
+  /// every copy (vertex_origin: new → old vertex) of a held vertex stays held. Allocates.
   void remodel(std::span<const Vec3> positions, std::span<const Triangle> triangles, bool closed,
                std::span<const std::uint32_t> vertex_origin);
 
@@ -149,6 +149,9 @@ class InstrumentContacts final : public XpbdContacts {
     Real radius;
   };
   void build_sample_grid(PerInstrument& p);
+  /// The tissue's part of reset(): its faces around each vertex, the stamps, the longest edge and
+  /// the per-vertex flags (every instrument's per-vertex scratch sized to it, nothing held).
+  void set_surface(std::span<const Vec3> positions, std::span<const Triangle> triangles, bool closed);
   void add_pair(PerInstrument& p, std::uint32_t sample, std::uint32_t triangle, const Aabb& face, const Vec3& n,
                 const Vec3& x0, const Vec3& x1, const Vec3& x2, const FaceSphere& sphere,
                 std::span<const Vec3> samples);

@@ -87,21 +87,12 @@ void Simulation::remodel(std::size_t t) {
   Real cut_damage = 0, cut_area = 0;
   Vec3 cut_centre = Vec3::Zero();
   if (!cut.empty()) {
-    std::unordered_map<std::uint64_t, std::uint8_t> was_stiffened;
-    was_stiffened.reserve(model.springs.size());
-    for (std::uint32_t s = 0; s < model.springs.size(); ++s)
-      was_stiffened.emplace(pair_key(model.springs[s].i, model.springs[s].j, s >= model.structural_count),
-                            stiffened_[t][s]);
     CutTopology result = remove_triangles(model, cut);
     model = std::move(result.settings);
     vertex_origin = std::move(result.vertex_origin);
     triangle_origin = std::move(result.triangle_origin);
     stiffened.assign(model.springs.size(), 0);
-    for (std::uint32_t s = 0; s < model.springs.size(); ++s) {
-      const auto it = was_stiffened.find(pair_key(vertex_origin[model.springs[s].i], vertex_origin[model.springs[s].j],
-                                                  s >= model.structural_count));
-      if (it != was_stiffened.end()) stiffened[s] = it->second;
-    }
+    for (std::size_t s = 0; s < model.springs.size(); ++s) stiffened[s] = stiffened_[t][result.spring_origin[s]];
     for (const std::uint32_t k : cut) {
       cut_damage = std::max(cut_damage, field.damage()[k]);
       cut_centre += old.settings.rest_areas[k] * (old.settings.rest_positions[old.settings.triangles[k][0]] +

@@ -118,6 +118,8 @@ CutTopology remove_triangles(const MassSpringSettings& settings, std::span<const
     std::iota(out.vertex_origin.begin(), out.vertex_origin.end(), 0u);
     out.triangle_origin.resize(n_tris);
     std::iota(out.triangle_origin.begin(), out.triangle_origin.end(), 0u);
+    out.spring_origin.resize(s.springs.size());
+    std::iota(out.spring_origin.begin(), out.spring_origin.end(), 0u);
     return out;
   }
   MassSpringSettings& c = out.settings;
@@ -302,6 +304,7 @@ CutTopology remove_triangles(const MassSpringSettings& settings, std::span<const
   std::vector<PendingBend> bending;  // after all structural springs (build()'s order)
   bending.reserve(s.springs.size() - n_structural);
   c.springs.reserve(s.springs.size());
+  out.spring_origin.reserve(s.springs.size());
   for (std::uint32_t v = 0; v < n_new; ++v) {
     half.clear();
     for (std::uint32_t q = vt_offsets[v]; q < vt_offsets[v + 1]; ++q) {
@@ -323,6 +326,7 @@ CutTopology remove_triangles(const MassSpringSettings& settings, std::span<const
       if (old != kNone) {
         const Spring& p = s.springs[old];
         c.springs.push_back({v, w, p.rest_length, p.stiffness, p.damping});
+        out.spring_origin.push_back(old);
       }
       // Exactly two distinct triangles: each has the edge once, so its third corner is opposite.
       if (last - first == 2 && half[first].t != half[first + 1].t) {
@@ -339,6 +343,7 @@ CutTopology remove_triangles(const MassSpringSettings& settings, std::span<const
   for (const PendingBend& q : bending) {
     const Spring& p = s.springs[q.old];
     c.springs.push_back({q.a, q.b, p.rest_length, p.stiffness, p.damping});
+    out.spring_origin.push_back(q.old);
   }
   return out;
 }

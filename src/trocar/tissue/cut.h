@@ -15,6 +15,7 @@ struct CutTopology {
   MassSpringSettings settings;                 ///< the cut model
   std::vector<std::uint32_t> vertex_origin;    ///< per new vertex: the old vertex it copies
   std::vector<std::uint32_t> triangle_origin;  ///< per new triangle: the old triangle
+  std::vector<std::uint32_t> spring_origin;    ///< per new spring: the old spring it copies
 };
 
 /// Removes the `removed` triangles (old indices, any order; duplicates and out-of-range indices

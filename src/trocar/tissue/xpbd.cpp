@@ -160,6 +160,15 @@ XpbdStats XpbdSolver::step(MassSpringState& state, const TissueLoads& loads, Rea
     x_[i] = {static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()), inverse_masses_[i]};
     v_[i] = {static_cast<float>(v.x()), static_cast<float>(v.y()), static_cast<float>(v.z()), 0.f};
   }
+  if (!primed_) {
+    // The last substep's start, as far as the state tells it: x − v h. (The rest shape would make
+    // a deformed tissue look as if it had jumped there: the contacts' reach, which follows the
+    // last substep's motion, would open to its widest for the first step.)
+    primed_ = true;
+    const float h0 = static_cast<float>(dt / options_.substeps);
+    for (std::size_t i = 0; i < n; ++i)
+      previous_[i] = {x_[i].x - h0 * v_[i].x, x_[i].y - h0 * v_[i].y, x_[i].z - h0 * v_[i].z, 0.f};
+  }
   const XpbdView view{std::span(x_).first(n), std::span(previous_).first(n), settings_.masses, settings_.triangles};
   const int substeps = options_.substeps;
   if (contacts != nullptr) contacts->begin_step(view, substeps);

@@ -114,6 +114,9 @@ class XpbdSolver {
   /// Particles: the vertices, then one padding particle (inverse mass 0) that the padding
   /// springs and triangles of each colour join to itself.
   std::vector<XpbdParticle> x_, previous_;
+  /// False until the first step: previous_ then comes from the state (x − v h), not the rest shape,
+  /// so a solver built for a deformed, moving tissue (a cut's rebuild) starts with its true motion.
+  bool primed_ = false;
   std::vector<XpbdParticle> v_;               ///< velocities (m/s) in x, y, z (w unused)
   std::vector<float> inverse_masses_;         ///< from the settings (0 at fixed vertices)
   // Springs with a stiffness, colour by colour, each colour padded to a multiple of 8.
