@@ -25,7 +25,13 @@ ActionScript::ActionScript(std::vector<ScriptedAction> actions) : actions_(std::
 
 void apply_actions(Simulation& sim, std::size_t instrument, std::uint32_t bits, ActionHandler* handler) {
   if (instrument >= sim.world().instruments.size()) return;
-  if ((bits & kActionFire) && handler != nullptr) handler->fire(sim, sim.active_in_port(instrument));
+  // Fire: a clip applier clips the bleeding point between its jaws; anything else is the
+  // handler's (the procedure fires a tacker).
+  if (bits & kActionFire) {
+    const std::size_t in_body = sim.active_in_port(instrument);
+    if (sim.world().instruments[in_body].tool == "clip-applier") sim.clip_at(in_body);
+    else if (handler != nullptr) handler->fire(sim, in_body);
+  }
   // The pedal and the valves drive the port's instrument in the body (a valve it lacks stays
   // shut: Simulation::set_suction); an exchange takes it out with the pedal up and the valves shut.
   const std::size_t active = sim.active_in_port(instrument);

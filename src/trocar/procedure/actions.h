@@ -14,7 +14,7 @@ namespace trocar {
 
 /// Action bits (a device's buttons map onto them: docs/devices.md).
 enum ActionBit : std::uint32_t {
-  kActionFire = 1u << 0,        ///< fire the tacker in this instrument's port
+  kActionFire = 1u << 0,        ///< fire the tacker (or the clip applier) in this instrument's port
   kActionExchange = 1u << 1,    ///< exchange the instrument in this instrument's port
   /// The electrode's pedal pressed (docs/electrosurgery.md). As a device's button (button 3) the
   /// bit is the pedal's level, held while it is down; recorded and scripted it is the press.

@@ -62,6 +62,9 @@ const std::vector<MeshGenerator>& mesh_generators() {
       {"abdominal-wall", generate_abdominal_wall, "width, height, hole_radius (m); thickness (m, 0 = sheet); segments, rings"},
       {"liver-lobe", generate_liver_lobe, "length, width, thickness (m); subdivisions, flatten, taper"},
       {"grasper", generate_grasper, "all optional (5 mm grasper): shaft_radius, shaft_length, jaw_* (m), segments; jaw triangles 0..23"},
+      // A clip applier is drawn and collides as a grasper (its jaws); "fire" clips the bleeding
+      // point between them (Simulation::clip_at).
+      {"clip-applier", generate_grasper, "as grasper (a 5 mm clip applier: its fire clips the wound at its tip)"},
       {"prosthetic-mesh", generate_prosthetic_mesh, "width, height (m, required), spacing (m, default 0.005); UVs in metres"},
       {"hook-probe", generate_hook_probe, "all optional (4.5 mm hook): shaft_radius, shaft_length, hook_radius, stem_length, hook_length (m), segments"},
       {"tacker", generate_tacker, "all optional (5 mm tack applier): shaft_radius, shaft_length, bevel (m), segments"},

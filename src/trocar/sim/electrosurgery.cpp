@@ -140,6 +140,23 @@ void Simulation::open_wound(std::size_t t, const Vec3& rest) {
   bleeding_.open_wound(b, nearest_vertex(tissue.settings.rest_positions, rest), *tissue.bleeds, bleeding_.time());
 }
 
+std::int64_t Simulation::clip_at(std::size_t i, Real reach) {
+  if (i >= world_.instruments.size() || phase_[i] != PortPhase::kInside) return -1;
+  const Vec3& tip = world_.instruments[i].instrument.pose().translation;
+  std::int64_t nearest = -1;
+  Real best = reach;
+  for (std::size_t w = 0; w < bleeding_.wounds().size(); ++w) {
+    const Bleeding::Wound& wound = bleeding_.wounds()[w];
+    if (wound.state != WoundState::kBleeding && wound.state != WoundState::kNeedsClip) continue;
+    const TissueBody& tissue = *world_.tissues[bleeding_tissues_[wound.tissue]];
+    if (wound.vertex >= tissue.state.positions.size()) continue;
+    const Real d = (tissue.state.positions[wound.vertex] - tip).norm();
+    if (d <= best) best = d, nearest = static_cast<std::int64_t>(w);
+  }
+  if (nearest >= 0) bleeding_.clip(static_cast<std::size_t>(nearest));
+  return nearest;
+}
+
 void Simulation::bleed(Real dt) {
   // Heat at an open wound coagulates it: the largest Ω of the triangles around its vertex, applied
   // while it rises (the electrode there now).

@@ -169,6 +169,13 @@ class Simulation {
   std::size_t bleeding_tissue(std::size_t i) const { return bleeding_tissues_[i]; }
   /// Clips wound w (a clip applier; a scripted event; a test).
   void clip(std::size_t w) { bleeding_.clip(w); }
+  /// A clip applier's clip (InstrumentBody::tool "clip-applier", its "fire"): closes the open
+  /// wound nearest instrument i's tip (its local origin, where the jaws meet) within `reach` (m;
+  /// the jaws close on what lies between them) and returns its index, or −1 when none is that
+  /// close (the clip lands on nothing). No allocation.
+  std::int64_t clip_at(std::size_t i, Real reach = kClipReach);
+  /// m: how far from a clip applier's tip a bleeding point is caught (its jaws are about 5 mm long).
+  static constexpr Real kClipReach = 0.005;
   /// Per instrument: where its electrode boils tissue (smoke's source; zero energy if none).
   std::span<const VapourSource> vapour() const { return vapour_; }
   /// Instrument exchange through a port (scene "port"), as a surgeon does: the instrument of
