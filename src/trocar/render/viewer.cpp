@@ -60,6 +60,7 @@ struct Session {
   std::unique_ptr<Procedure> procedure;  // the scene's task (null: none); the physics thread's while it runs
   TaskView first_task;                   // shown until the runtime publishes the panel
   double timestep = 1e-3;  // the scene's "timestep": the physics thread's step
+  std::vector<std::string> instrument_names;  // for the panel's lines (surgery_status)
 
   void launch(const ViewerOptions& o, const std::vector<DeviceSpec>& devices, const PortCommand& command) {
     std::vector<RuntimeChannel> channels = make_channels(devices, sim->world());
@@ -147,6 +148,7 @@ struct Viewer {
     }
     scene.settings.measure_penetration = false;  // exact metrics are for studies, not the live loop
     next->sim = std::make_unique<Simulation>(std::move(scene.world), scene.settings);
+    for (const InstrumentBody& body : next->sim->world().instruments) next->instrument_names.push_back(body.name);
     if (scene.task)
       next->procedure = std::make_unique<Procedure>(*scene.task, next->sim->world(), scene.zones, scene.landmarks);
     next->camera = select_camera(cameras, next->sim->world(), options.camera);
@@ -449,6 +451,7 @@ class FrameLoop {
       fps_since_ = now;
     }
     live.free_camera = v_.input.free_camera;
+    live.surgery = surgery_status(snap, v_.session->instrument_names);
   }
 
   /// Draws the scene and the panel, takes a screenshot when asked, swaps; then carries out the

@@ -3,6 +3,7 @@
 #include <imgui.h>
 
 #include <algorithm>
+#include <cstdio>
 
 #include "trocar/tissue/material.h"
 
@@ -89,6 +90,34 @@ void apply_edits(nlohmann::json& doc, const SceneEdits& e, int drive) {
   }
 }
 
+std::string surgery_status(const ViewSnapshot& snap, const std::vector<std::string>& names) {
+  std::string out;
+  const auto line = [&](const std::string& text) { out += (out.empty() ? "" : "\n") + text; };
+  for (std::size_t i = 0; i < snap.instruments.size(); ++i) {
+    const InstrumentView& v = snap.instruments[i];
+    if (!v.energy && !v.suction && !v.irrigation) continue;
+    std::string what = i < names.size() ? names[i] : "instrument " + std::to_string(i);
+    what += ":";
+    if (v.energy) what += i < snap.vapour.size() && snap.vapour[i].burning ? " energy on, burning" : " energy on";
+    if (v.suction) what += v.energy ? ", suction" : " suction";
+    if (v.irrigation) what += v.energy || v.suction ? ", irrigation" : " irrigation";
+    line(what);
+  }
+  if (!snap.wounds.empty()) {
+    Real lost = 0;
+    std::size_t open = 0;
+    for (const ViewSnapshot::WoundView& w : snap.wounds) {
+      lost += w.emitted;
+      open += w.open ? 1 : 0;
+    }
+    char text[96];
+    std::snprintf(text, sizeof text, "blood lost %.1f ml; %zu of %zu wound%s bleeding", lost * 1e6, open,
+                  snap.wounds.size(), snap.wounds.size() == 1 ? "" : "s");
+    line(text);
+  }
+  return out;
+}
+
 PanelActions draw_panel(SceneEdits& e, RenderOptions& render, const PanelLive& live) {
   PanelActions a;
   ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
@@ -109,6 +138,7 @@ PanelActions draw_panel(SceneEdits& e, RenderOptions& render, const PanelLive& l
   if (ImGui::Button("Shot")) a.screenshot = true;
   if (live.recording) ImGui::TextWrapped("recording %s", live.recording_path.c_str());
   if (!live.status.empty()) ImGui::TextWrapped("%s", live.status.c_str());
+  if (!live.surgery.empty()) ImGui::TextColored(ImVec4(1.0f, 0.75f, 0.35f, 1.0f), "%s", live.surgery.c_str());
 
   if (ImGui::CollapsingHeader("Timing", ImGuiTreeNodeFlags_DefaultOpen)) {
     plot("step", live.step_us, "us");

@@ -60,6 +60,7 @@ struct PanelLive {
   std::string recording_path;
   std::string status;       ///< last message (an error of a rejected edit, a saved file)
   std::string device;       ///< the driven instrument's device
+  std::string surgery;      ///< electrosurgery and bleeding now (surgery_status), empty: nothing
   bool free_camera = false;
 };
 
@@ -67,6 +68,13 @@ struct PanelLive {
 struct PanelActions {
   bool apply = false, pause = false, step = false, reset = false, record = false, screenshot = false, camera = false;
 };
+
+/// What the trainee is doing with energy and fluid, and what bleeds, one line each: every
+/// instrument in the body whose pedal is down ("hook: energy on", "burning" while it touches
+/// tissue), whose suction or irrigation valve is open, then the blood lost (ml, all wounds) and
+/// how many wounds still bleed. Empty when nothing of it is going on and nothing has bled.
+/// `names` are the instruments' (snapshot order; a missing one is "instrument i").
+std::string surgery_status(const ViewSnapshot& snap, const std::vector<std::string>& names);
 
 /// Draws the panel (between ImGui::NewFrame and ImGui::Render).
 PanelActions draw_panel(SceneEdits& edits, RenderOptions& render, const PanelLive& live);

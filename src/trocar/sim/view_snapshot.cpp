@@ -75,6 +75,7 @@ void capture_view(const Simulation& sim, ViewSnapshot& out) {
     v.suction_spec = world.instruments[i].suction;
     v.suction = sim.suction_on(i) && !sim.parked(i);
     v.irrigation = sim.irrigation_on(i) && !sim.parked(i);
+    v.energy = sim.energy_on(i) && !sim.parked(i);
   }
   // Object order in contacts: instruments, then tissues, then rigids (Simulation's objects_).
   const std::size_t nt = world.tissues.size();

@@ -30,6 +30,7 @@ struct InstrumentView {
   SuctionSpec suction_spec;
   bool suction = false;
   bool irrigation = false;
+  bool energy = false;          ///< its electrode's pedal is down (Simulation::energy_on)
 };
 
 /// One instrument–tissue contact as drawn: the midpoint of the two triangles' intersection
