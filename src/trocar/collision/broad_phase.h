@@ -47,6 +47,14 @@ class BroadPhase {
   virtual void find_pairs(std::span<const CollisionObject> objects, std::vector<CandidatePair>& out) = 0;
   /// Which broad phase this is.
   virtual BroadPhaseKind kind() const = 0;
+  /// Object `object`'s triangles are about to be replaced by a topology change (a cut): new
+  /// triangle k was old triangle triangle_origin[k] (one-to-one). A broad phase that keeps
+  /// per-object structure may reuse it for the new triangles; the result of find_pairs() must
+  /// stay the same set of pairs. Default: nothing (the next find_pairs rebuilds what changed).
+  virtual void remap_object(std::size_t object, std::span<const std::uint32_t> triangle_origin) {
+    (void)object;
+    (void)triangle_origin;
+  }
   /// With true, only pairs with an instrument are returned (the simulator's step: tissue against
   /// tissue is answered by the tissue contact solver, response/tissue_contact.h, from its own
   /// proximity search, so the detector need not find those pairs at all).

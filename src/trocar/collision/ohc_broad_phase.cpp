@@ -151,6 +151,37 @@ void OhcBroadPhase::build_clusters(ObjectClusters& c, const CollisionObject& obj
   if (object.positions.size() > std::numeric_limits<std::uint32_t>::max() / 3) {
     throw std::length_error("OhcBroadPhase: more than 2^32/3 vertices in one object");
   }
+  if (c.next_order.size() == n) {
+    // A cut's remap: the old order without the removed triangles (remap_object).
+    c.order = std::move(c.next_order);
+    c.next_order.clear();
+    c.ordered.resize(n);
+    for (std::uint32_t t = 0; t < n; ++t) c.ordered[t] = object.triangles[c.order[t]];
+  } else {
+    c.next_order.clear();
+    morton_order(c, object);
+  }
+  build_cluster_lists(c, object);
+}
+
+void OhcBroadPhase::remap_object(std::size_t object, std::span<const std::uint32_t> triangle_origin) {
+  if (object >= clusters_.size()) return;
+  ObjectClusters& c = clusters_[object];
+  c.next_order.clear();
+  const std::size_t old_n = c.order.size();
+  constexpr std::uint32_t kNone = ~std::uint32_t{0};
+  std::vector<std::uint32_t> now(old_n, kNone);
+  for (std::size_t k = 0; k < triangle_origin.size(); ++k) {
+    if (triangle_origin[k] >= old_n || now[triangle_origin[k]] != kNone) return;  // not one-to-one: sort anew
+    now[triangle_origin[k]] = static_cast<std::uint32_t>(k);
+  }
+  for (const std::uint32_t old : c.order)
+    if (now[old] != kNone) c.next_order.push_back(now[old]);
+  if (c.next_order.size() != triangle_origin.size()) c.next_order.clear();
+}
+
+void OhcBroadPhase::morton_order(ObjectClusters& c, const CollisionObject& object) {
+  const auto n = static_cast<std::uint32_t>(object.triangles.size());
   // Morton order of the centroids (21 bits per axis over the centroids' box): consecutive
   // triangles are close, so clusters of consecutive triangles are compact patches.
   Aabb centre_box;
@@ -179,17 +210,28 @@ void OhcBroadPhase::build_clusters(ObjectClusters& c, const CollisionObject& obj
     c.order[t] = keyed[t].second;
     c.ordered[t] = object.triangles[keyed[t].second];
   }
+}
+
+void OhcBroadPhase::build_cluster_lists(ObjectClusters& c, const CollisionObject& object) {
+  const auto n = static_cast<std::uint32_t>(object.triangles.size());
   const std::uint32_t clusters = (n + kClusterTriangles - 1) / kClusterTriangles;
   c.vertex_start.assign(clusters + 1, 0);
   c.vertices.clear();
+  c.vertices.reserve(3 * static_cast<std::size_t>(n) + ohc_detail::kRefitPrefetch);
   std::vector<std::uint32_t> ids;
+  // Each list's distinct vertices: a vertex is taken the first time its list meets it (seen:
+  // the list's number + 1), then the few distinct ones are sorted (a sort of all three corners of
+  // 32 triangles, then unique, cost twice as much).
+  std::vector<std::uint32_t> seen(object.positions.size(), 0);
+  std::uint32_t list = 0;
   for (std::uint32_t k = 0; k < clusters; ++k) {
     ids.clear();
+    ++list;
     for (std::uint32_t t = k * kClusterTriangles; t < std::min(n, (k + 1) * kClusterTriangles); ++t) {
-      for (const std::uint32_t v : object.triangles[c.order[t]]) ids.push_back(v);
+      for (const std::uint32_t v : object.triangles[c.order[t]])
+        if (seen[v] != list) seen[v] = list, ids.push_back(v);
     }
     std::sort(ids.begin(), ids.end());
-    ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
     // Stored as offsets in doubles (3 × id): the refit then addresses positions + offset
     // directly, one instruction less per vertex than scaling an id by 24 bytes.
     for (const std::uint32_t v : ids) c.vertices.push_back(3 * v);
@@ -199,10 +241,12 @@ void OhcBroadPhase::build_clusters(ObjectClusters& c, const CollisionObject& obj
   c.group_start.assign(groups + 1, 0);
   c.group_vertices.clear();
   for (std::uint32_t g = 0; g < groups; ++g) {
-    ids.assign(c.vertices.begin() + c.vertex_start[g * kGroupClusters],
-               c.vertices.begin() + c.vertex_start[std::min(clusters, (g + 1) * kGroupClusters)]);
+    ids.clear();
+    ++list;
+    for (auto it = c.vertices.begin() + c.vertex_start[g * kGroupClusters];
+         it != c.vertices.begin() + c.vertex_start[std::min(clusters, (g + 1) * kGroupClusters)]; ++it)
+      if (seen[*it / 3] != list) seen[*it / 3] = list, ids.push_back(*it);
     std::sort(ids.begin(), ids.end());
-    ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
     c.group_vertices.insert(c.group_vertices.end(), ids.begin(), ids.end());
     c.group_start[g + 1] = static_cast<std::uint32_t>(c.group_vertices.size());
   }

@@ -116,6 +116,10 @@ class OhcBroadPhase final : public BroadPhase {
 
   void find_pairs(std::span<const CollisionObject> objects, std::vector<CandidatePair>& out) override;
   BroadPhaseKind kind() const override { return BroadPhaseKind::kOhc; }
+  /// Keeps the object's triangle order (its clusters' Morton order) for the cut's new triangles:
+  /// the old order without the removed ones, renumbered. The next rebuild of its clusters takes
+  /// it instead of sorting the centroids again (a cut moves nothing: the order is as good).
+  void remap_object(std::size_t object, std::span<const std::uint32_t> triangle_origin) override;
 
   const OhcSettings& settings() const { return settings_; }          ///< current settings
   void set_settings(const OhcSettings& settings) { settings_ = settings; }  ///< for the next frame
@@ -154,6 +158,8 @@ class OhcBroadPhase final : public BroadPhase {
     std::size_t triangle_count = 0;           ///< identity: triangle span size
     std::size_t vertex_count = 0;             ///< identity: vertex count
     std::vector<std::uint32_t> order;         ///< triangle ids, cluster after cluster
+    /// The order to take at the next build instead of the Morton sort (remap_object; empty: none).
+    std::vector<std::uint32_t> next_order;
     std::vector<Triangle> ordered;            ///< the triangles' vertex ids in that order
     std::vector<std::uint32_t> vertex_start;  ///< per cluster, first entry in vertices (+ end)
     /// Each cluster's distinct vertices, ascending, as offsets in doubles into the positions
@@ -192,6 +198,10 @@ class OhcBroadPhase final : public BroadPhase {
   };
 
   static void build_clusters(ObjectClusters& c, const CollisionObject& object);
+  /// build_clusters' parts: the Morton order of the centroids (order, ordered), then each
+  /// cluster's and group's vertex lists and the per-cluster arrays.
+  static void morton_order(ObjectClusters& c, const CollisionObject& object);
+  static void build_cluster_lists(ObjectClusters& c, const CollisionObject& object);
   /// The group boxes (all clusters' too when `all_clusters`); returns the object box.
   static Aabb refit_groups(ObjectClusters& c, const CollisionObject& object, bool simd, bool all_clusters);
   /// The boxes of group g's clusters, once per frame.

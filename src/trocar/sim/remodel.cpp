@@ -149,6 +149,7 @@ void Simulation::remodel(std::size_t t) {
   TissueBody& now = *world_.tissues[t];
   const std::size_t ni = world_.instruments.size();
   objects_[ni + t] = {ObjectRole::kTissue, now.state.positions, now.settings.triangles};
+  detector_.broad_phase().remap_object(ni + t, triangle_origin);  // its clusters keep their order
   responses_[t]->remodel({&now.settings, &now.state, &now.loads, &now.integrator, static_cast<std::uint32_t>(ni + t)},
                          vertex_origin);
   tissue_contact_->remodel(t, {&now.settings, &now.state}, triangle_origin, old_triangles, time_);
