@@ -236,6 +236,50 @@ TEST(OhcCells, DeterministicAcrossRunsAndDetectors) {
   }
 }
 
+TEST(OhcCells, ACutKeepsTheClusterOrderAndFindsWhatAFreshDetectorFinds) {
+  // A cut removes triangles of the tissue (object 1): remap_object hands the OHC the mapping, and
+  // its clusters take the old order without the removed ones instead of sorting again. The
+  // contacts must be a fresh detector's, frame after frame.
+  test::CuttingScene cut(make_icosphere(0.05, 3), make_capsule(0.004, 0.04, 12, 4), 0.006, 0.01);
+  CollisionDetector a;
+  cut.set_frame(0);
+  a.detect(cut.scene.objects());  // the clusters of the uncut tissue
+  std::vector<Triangle> kept;
+  std::vector<std::uint32_t> origin;
+  const std::vector<Triangle>& before = cut.scene.meshes[1].triangles;
+  for (std::uint32_t t = 0; t < before.size(); ++t)
+    if (t % 7 != 3) {
+      kept.push_back(before[t]);
+      origin.push_back(t);
+    }
+  ASSERT_LT(kept.size(), before.size());
+  a.broad_phase().remap_object(1, origin);
+  cut.scene.meshes[1].triangles = kept;  // a new buffer: the OHC sees another object
+  std::size_t found = 0;
+  for (int f = 1; f < 5; ++f) {
+    cut.set_frame(f);
+    const auto objects = cut.scene.objects();
+    const auto remapped = a.detect(objects);
+    std::vector<Contact> first(remapped.begin(), remapped.end());
+    CollisionDetector fresh;
+    std::vector<Contact> out;
+    fresh.detect(objects, out);
+    test::expect_same_contacts(out, first, "frame " + std::to_string(f));
+    found += first.size();
+  }
+  EXPECT_GT(found, 0u);
+  // A mapping that is not one-to-one is refused (the next build sorts anew), and still correct.
+  std::vector<std::uint32_t> twice(cut.scene.meshes[1].triangles.size(), 0);
+  a.broad_phase().remap_object(1, twice);
+  cut.scene.meshes[1].triangles.pop_back();
+  const auto objects = cut.scene.objects();
+  const auto after = a.detect(objects);
+  std::vector<Contact> out;
+  CollisionDetector fresh;
+  fresh.detect(objects, out);
+  test::expect_same_contacts(out, std::vector<Contact>(after.begin(), after.end()), "after a refused remap");
+}
+
 TEST(OhcCells, TableSizedByTheFrame) {
   test::CuttingScene cut(make_icosphere(0.05, 3), make_capsule(0.004, 0.04, 12, 4), 0.006, 0.01);
   OhcSettings settings;
