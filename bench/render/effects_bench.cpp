@@ -21,6 +21,7 @@
 #include "trocar/render/offscreen.h"
 #include "trocar/render/renderer.h"
 #include "trocar/sim/simulation.h"
+#include "support/vessel.h"
 
 namespace trocar {
 namespace {
@@ -35,15 +36,7 @@ Simulation effects_scene() {
   for (std::uint32_t v = 0; v < sheet.positions.size(); ++v)
     if (std::abs(sheet.positions[v].x()) > 0.1099 || std::abs(sheet.positions[v].y()) > 0.0799) border.indices.push_back(v);
   world.add_tissue("peritoneum", sheet, material_preset("peritoneum"), border, Vec3(0, 0, -9.81), IntegratorKind::kXpbd);
-  std::vector<Vec3> axis;
-  for (int k = 0; k <= 40; ++k) axis.emplace_back(-0.02 + 0.001 * k, 0.012, 0.0025);
-  const TriMesh tube = make_tube(axis, 0.002, 12);
-  FixedSelection ends;
-  for (std::uint32_t v = 0; v < tube.positions.size(); ++v)
-    if (std::abs(tube.positions[v].x()) > 0.019) ends.indices.push_back(v);
-  TissueBody& vessel = world.add_tissue("vessel", tube, material_preset("soft"), ends, Vec3(0, 0, -9.81),
-                                        IntegratorKind::kXpbd);
-  vessel.bleeds = VesselSpec{0.0015, true};
+  test::add_held_vessel(world, "vessel", Vec3(0, 0.012, 0.0025), 0.02, 0.002, 12, 0.019, VesselSpec{0.0015, true});
   const Quat q(Eigen::AngleAxis<Real>(std::numbers::pi / 2, Vec3::UnitZ()));
   InstrumentBody& hook = world.add_instrument("hook", Instrument(make_hook_probe().mesh, Vec3::UnitZ()),
                                               KeyframeMotion({{0, Vec3(0.0, -0.004, 0.006), q, 0}}));

@@ -6,6 +6,7 @@
 #include "trocar/mesh/instruments.h"
 #include "trocar/procedure/actions.h"
 #include "trocar/sim/simulation.h"
+#include "support/vessel.h"
 
 namespace trocar {
 namespace {
@@ -14,14 +15,7 @@ namespace {
 /// 3 cm above it.
 Simulation vein_and_tools() {
   World world;
-  std::vector<Vec3> axis;
-  for (int k = 0; k <= 30; ++k) axis.emplace_back(-0.015 + 0.001 * k, 0, 0);
-  const TriMesh tube = make_tube(axis, 0.002, 12);
-  FixedSelection fixed;
-  for (std::uint32_t v = 0; v < tube.positions.size(); ++v)
-    if (std::abs(tube.positions[v].x()) > 0.014) fixed.indices.push_back(v);
-  TissueBody& t = world.add_tissue("vein", tube, material_preset("soft"), fixed, Vec3(0, 0, -9.81), IntegratorKind::kXpbd);
-  t.bleeds = VesselSpec{0.004, false};
+  test::add_held_vessel(world, "vein", Vec3::Zero(), 0.015, 0.002, 12, 0.014, VesselSpec{0.004, false});
   const InstrumentMesh jaws = make_grasper();
   world.add_instrument("clips", Instrument(jaws.mesh, Vec3::UnitZ()), KeyframeMotion({{0, Vec3(0, 0, 0.03), Quat::Identity(), 0}}))
       .tool = "clip-applier";

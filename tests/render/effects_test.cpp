@@ -24,6 +24,7 @@
 #include "trocar/render/renderer.h"
 #include "trocar/scene/scene.h"
 #include "trocar/sim/simulation.h"
+#include "support/vessel.h"
 
 namespace trocar {
 namespace {
@@ -291,15 +292,7 @@ TEST(Effects, ACutTissueIsStillDrawnWithItsHoleShowingWhatIsBehind) {
 /// vein) when cut, under gravity −z.
 std::unique_ptr<Simulation> vessel(Real radius = 0.002, bool artery = true) {
   World world;
-  std::vector<Vec3> axis;
-  for (int k = 0; k <= 30; ++k) axis.emplace_back(-0.015 + 0.001 * k, 0, 0);
-  const TriMesh tube = make_tube(axis, radius, 24);
-  FixedSelection fixed;
-  for (std::uint32_t v = 0; v < tube.positions.size(); ++v)
-    if (std::abs(tube.positions[v].x()) > 0.014) fixed.indices.push_back(v);
-  TissueBody& t = world.add_tissue("vessel", tube, material_preset("soft"), fixed, Vec3(0, 0, -9.81),
-                                   IntegratorKind::kXpbd);
-  t.bleeds = VesselSpec{0.0015, artery};
+  test::add_held_vessel(world, "vessel", Vec3::Zero(), 0.015, radius, 24, 0.014, VesselSpec{0.0015, artery});
   return std::make_unique<Simulation>(std::move(world), SimulationSettings{});
 }
 
@@ -677,15 +670,7 @@ TEST(Effects, DISABLED_WritesTheDocumentationFrames) {
       for (std::uint32_t v = 0; v < sheet.positions.size(); ++v)
         if (sheet.positions[v].y() < -0.0399) edge.indices.push_back(v);
       world.add_tissue("peritoneum", sheet, material_preset("peritoneum"), edge, Vec3(0, 0, -9.81), IntegratorKind::kXpbd);
-      std::vector<Vec3> axis;
-      for (int k = 0; k <= 60; ++k) axis.emplace_back(-0.03 + 0.001 * k, 0.004, 0.0028);
-      const TriMesh tube = make_tube(axis, 0.0025, 24);
-      FixedSelection ends;
-      for (std::uint32_t v = 0; v < tube.positions.size(); ++v)
-        if (std::abs(tube.positions[v].x()) > 0.027) ends.indices.push_back(v);
-      TissueBody& artery = world.add_tissue("artery", tube, material_preset("soft"), ends, Vec3(0, 0, -9.81),
-                                            IntegratorKind::kXpbd);
-      artery.bleeds = VesselSpec{0.0015, true};
+      test::add_held_vessel(world, "artery", Vec3(0, 0.004, 0.0028), 0.03, 0.0025, 24, 0.027, VesselSpec{0.0015, true});
       const Quat q(Eigen::AngleAxis<Real>(std::numbers::pi / 2, Vec3::UnitZ()));
       world.add_instrument("hook", Instrument(make_hook_probe().mesh, Vec3::UnitZ()),
                            KeyframeMotion({{0, Vec3(0.025, -0.015, 0.03), q, 0}}));

@@ -10,6 +10,7 @@
 #include "trocar/mesh/inguinal_anatomy.h"
 #include "trocar/mesh/instruments.h"
 #include "trocar/sim/simulation.h"
+#include "support/vessel.h"
 
 namespace trocar {
 namespace {
@@ -17,15 +18,7 @@ namespace {
 /// A 3 cm vessel (a tube of radius 2 mm along x, its ends held) whose lumen is `diameter`.
 Simulation vessel(Real diameter, bool artery, Real hook_power = 0) {
   World world;
-  std::vector<Vec3> axis;
-  for (int k = 0; k <= 30; ++k) axis.emplace_back(-0.015 + 0.001 * k, 0, 0);  // a ring every mm
-  const TriMesh tube = make_tube(axis, 0.002, 12);
-  FixedSelection fixed;
-  for (std::uint32_t v = 0; v < tube.positions.size(); ++v)
-    if (std::abs(tube.positions[v].x()) > 0.014) fixed.indices.push_back(v);
-  TissueBody& t = world.add_tissue("vessel", tube, material_preset("soft"), fixed, Vec3(0, 0, -9.81),
-                                   IntegratorKind::kXpbd);
-  t.bleeds = VesselSpec{diameter, artery};
+  test::add_held_vessel(world, "vessel", Vec3::Zero(), 0.015, 0.002, 12, 0.014, VesselSpec{diameter, artery});
   if (hook_power > 0) {
     // The hook's foot across the vessel's top, pressed 0.2 mm in.
     const Quat q(Eigen::AngleAxis<Real>(std::numbers::pi / 2, Vec3::UnitZ()));
