@@ -110,6 +110,8 @@ void InstrumentContacts::build_sample_grid(PerInstrument& p) {
   p.sample_to.assign(samples.size(), Vec3::Zero());
   p.sample_placed.assign(samples.size(), 0);
   p.grid_box = Aabb::of_points(samples).inflated(1e-6);
+  p.sample_radius = 0;
+  for (const Vec3& q : samples) p.sample_radius = std::max(p.sample_radius, q.norm());
   const Vec3 size = p.grid_box.size();
   // 2 mm cells, coarser when that would exceed 2^18 cells.
   p.grid_cell = std::max(Real{0.002}, std::cbrt(size.prod() / (1 << 18)));
@@ -221,9 +223,21 @@ void InstrumentContacts::find_pairs(PerInstrument& p, const XpbdView& view) {
   if (p.near.empty() || p.grid_start.empty()) return;
   ++p.sample_round;
   const std::span<const Vec3> samples = p.in.field->samples();
-  const Pose to_inverse = p.to.inverse(), from_inverse = p.from.inverse();
+  const Pose from_inverse = p.from.inverse();
+  // How far any sample moves over the step: the translation and the rotation's arc at the
+  // farthest sample (|(R₁ − R₀)s| ≤ angle·|s|).
+  const Real path = (p.to.translation - p.from.translation).norm() +
+                    p.from.rotation.angularDistance(p.to.rotation) * p.sample_radius;
+  // add_pair keeps a sample only if, at the step's start, it lies over the face within `lateral`
+  // in the face's plane and at a height d₀ over it in [below, above]: below −kRecover for a closed
+  // surface (either side of an open sheet: −above), above the margin and the reach plus the
+  // sample's own path. The grid is searched over that thin prism's box only (the face's box grown
+  // by the depth limit on every side held the shaft's whole cross-section).
+  const Real above = settings_.contact_margin + tissue_reach_ + path;
+  const Real below = closed_ ? -kRecover : -above;
+  const Real lateral = above;
   // Triangles around the near vertices whose box meets the instrument's, each once; for each,
-  // the samples in the grid cells under its grown box (in the instrument's frame at both poses).
+  // the samples in the grid cells under its prism (in the instrument's frame at the step's start).
   ++stamp_;
   for (const std::uint32_t v : p.near)
     for (std::uint32_t k = vertex_first_[v]; k < vertex_first_[v + 1]; ++k) {
@@ -247,8 +261,12 @@ void InstrumentContacts::find_pairs(PerInstrument& p, const XpbdView& view) {
                                               (x2 - centre).squaredNorm()}));
       const FaceSphere sphere{centre, radius};
       face = face.inflated(p.depth_limit + tissue_reach_);
-      Aabb local = to_inverse.apply(face);
-      local.expand(from_inverse.apply(face));
+      Aabb local;
+      for (const Vec3* x : {&x0, &x1, &x2}) {
+        local.expand(from_inverse.apply(Vec3(*x + below * n)));
+        local.expand(from_inverse.apply(Vec3(*x + above * n)));
+      }
+      local = local.inflated(lateral + 1e-7);  // and a rounding's worth
       std::size_t lo[3], hi[3];
       bool empty = false;
       for (int a = 0; a < 3; ++a) {

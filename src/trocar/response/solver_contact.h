@@ -135,6 +135,7 @@ class InstrumentContacts final : public XpbdContacts {
     // The instrument's samples in a uniform grid of its own frame (built once: it is rigid).
     Aabb grid_box;
     Real grid_cell = 0;
+    Real sample_radius = 0;  ///< the farthest sample from the frame's origin (m)
     std::array<std::size_t, 3> grid_n{};
     std::vector<std::uint32_t> grid_start, grid_samples;  ///< CSR: sample ids cell by cell
     std::vector<std::uint32_t> sample_stamp, sample_index;  ///< per sample: round listed, index in samples
