@@ -19,6 +19,7 @@
 #include "trocar/mesh/prosthetic_mesh.h"
 #include "trocar/mesh/validate.h"
 #include "trocar/response/tissue_contact.h"
+#include "trocar/response/xpbd_coupling.h"
 #include "trocar/tissue/integrator.h"
 #include "trocar/tissue/material.h"
 #include "trocar/tissue/settings.h"
@@ -30,6 +31,12 @@ namespace {
 constexpr Real kDt = 1e-3;
 const Vec3 kGravity(0, 0, -9.81);
 
+/// How the tests below solve contacts and tacks: after the integrators (implicit Euler tissues,
+/// TissueContactSolver::solve) or inside the substeps of XPBD tissues stepped in lock-step
+/// (step_coupled). The tests that run both are TEST_P over it.
+enum class Solve { kAfter, kCoupled };
+Solve g_solve = Solve::kAfter;
+
 /// One tissue stepped by hand (what Simulation::deform does, without instruments).
 struct Body {
   MassSpringSettings settings;
@@ -38,16 +45,40 @@ struct Body {
   TissueLoads loads;
   Body(const TriMesh& mesh, const MassSpringMaterial& m, const FixedSelection& fixed = {}, const Vec3& gravity = kGravity)
       : settings(MassSpringSettings::build(mesh, m, fixed, gravity)), state(MassSpringState::at_rest(settings)) {
-    integrator = std::make_unique<MassSpringIntegrator>(settings, IntegratorKind::kImplicitEuler);
+    integrator = std::make_unique<MassSpringIntegrator>(
+        settings, g_solve == Solve::kCoupled ? IntegratorKind::kXpbd : IntegratorKind::kImplicitEuler);
     loads.reset(settings.vertex_count());
   }
 };
 
+/// `bodies` in the solver's tissue order.
 void step(std::vector<Body*> bodies, TissueContactSolver& solver, Real time) {
   solver.begin_step();
+  if (g_solve == Solve::kCoupled) {
+    std::vector<CoupledTissue> coupled;
+    int substeps = 1;
+    for (Body* b : bodies) {
+      coupled.push_back({b->integrator->xpbd(), &b->state, &b->loads, nullptr});
+      substeps = std::max(substeps, b->integrator->xpbd()->options().substeps);
+    }
+    std::vector<XpbdStats> stats(bodies.size());
+    step_coupled(coupled, solver, kDt, substeps, time, stats);
+    return;
+  }
   for (Body* b : bodies) b->integrator->step(b->state, b->loads, kDt);
   solver.solve(kDt, time);
 }
+
+/// The tests that hold for both ways of solving.
+class TissueContactBoth : public ::testing::TestWithParam<Solve> {
+ protected:
+  void SetUp() override { g_solve = GetParam(); }
+  void TearDown() override { g_solve = Solve::kAfter; }
+};
+INSTANTIATE_TEST_SUITE_P(, TissueContactBoth, ::testing::Values(Solve::kAfter, Solve::kCoupled),
+                         [](const ::testing::TestParamInfo<Solve>& solve) {
+                           return solve.param == Solve::kAfter ? "AfterTheIntegrators" : "InsideXpbdSubsteps";
+                         });
 
 /// Signed distance of p from the surface (brute force over every triangle; the sign from the
 /// nearest triangle's normal).
@@ -117,7 +148,7 @@ RestOutcome mesh_on_wall(Real spacing, Real mass_scale, Real wall_scale, bool se
   return out;
 }
 
-TEST(TissueContact, MeshRestsOnACurvedDeformableWall) {
+TEST_P(TissueContactBoth, MeshRestsOnACurvedDeformableWall) {
   const RestOutcome r = mesh_on_wall(0.005, 1, 1, true);
   std::printf("mesh on wall (5 mm, nominal): min distance %.3f mm, p99 shortfall %.4f mm, max speed %.2g m/s\n",
               1e3 * r.min_distance, 1e3 * r.p99_shortfall, r.max_speed);
@@ -127,7 +158,7 @@ TEST(TissueContact, MeshRestsOnACurvedDeformableWall) {
   // light knit; not yet looked into).
 }
 
-TEST(TissueContact, MeshRestsOnTheWallInEveryCellOfTheGrid) {
+TEST_P(TissueContactBoth, MeshRestsOnTheWallInEveryCellOfTheGrid) {
   Real worst_p99 = 0, worst_min = std::numeric_limits<Real>::infinity();
   char worst[96] = "";
   for (const Real spacing : {0.004, 0.008})
@@ -373,7 +404,7 @@ struct TackRig {
   }
 };
 
-TEST(TissueContact, TackHoldsBelowItsPulloutForce) {
+TEST_P(TissueContactBoth, TackHoldsBelowItsPulloutForce) {
   TackRig rig;
   ASSERT_EQ(rig.tack(), 0u);
   const Real rest_gap = rig.gap();
@@ -391,7 +422,7 @@ TEST(TissueContact, TackHoldsBelowItsPulloutForce) {
   EXPECT_NEAR(a.force, 0.7 * pullout, 0.1 * pullout);  // the tack carries the pull
 }
 
-TEST(TissueContact, TackTearsWhenThePullExceedsItsPulloutForce) {
+TEST_P(TissueContactBoth, TackTearsWhenThePullExceedsItsPulloutForce) {
   TackRig rig;
   ASSERT_EQ(rig.tack(), 0u);
   const Real pullout = rig.solver.attachments()[0].spec.pullout_force;
@@ -418,7 +449,7 @@ TEST(TissueContact, TackTearsWhenThePullExceedsItsPulloutForce) {
 // that offset, both stay at rest where they were. Held at zero offset instead (before the
 // offset), tack and contact undid each other by a millimetre per iteration and the TAPP scene
 // blew up within 10 ms of the first tack.
-TEST(TissueContact, ATackAcrossTheContactGapHoldsTheMeshWhereItLies) {
+TEST_P(TissueContactBoth, ATackAcrossTheContactGapHoldsTheMeshWhereItLies) {
   constexpr Real kLay = 0.0015;
   FixedSelection border;
   for (std::uint32_t v = 0; v < 81; ++v)

@@ -33,6 +33,40 @@ Real mean_triangle_extent(const MassSpringSettings& s) {
   return std::max(sum / static_cast<Real>(s.triangles.size()), 1e-6);
 }
 
+/// Positions and velocities as the tissues' states hold them (after the integrators).
+struct StateAccess {
+  std::span<const ContactTissue> tissues;
+  Vec3 x(std::uint32_t t, std::uint32_t v) const { return tissues[t].state->positions[v]; }
+  void move(std::uint32_t t, std::uint32_t v, const Vec3& d) const { tissues[t].state->positions[v] += d; }
+  Vec3 u(std::uint32_t t, std::uint32_t v) const { return tissues[t].state->velocities[v]; }
+  void push(std::uint32_t t, std::uint32_t v, const Vec3& d) const { tissues[t].state->velocities[v] += d; }
+};
+
+/// The same, as the coupled solvers hold them inside their substeps (float particles), per tissue.
+struct ParticleAccess {
+  std::span<const std::span<XpbdParticle>> positions, velocities;
+  Vec3 x(std::uint32_t t, std::uint32_t v) const {
+    const XpbdParticle& p = positions[t][v];
+    return Vec3(p.x, p.y, p.z);
+  }
+  void move(std::uint32_t t, std::uint32_t v, const Vec3& d) const {
+    XpbdParticle& p = positions[t][v];
+    p.x = static_cast<float>(p.x + d.x());
+    p.y = static_cast<float>(p.y + d.y());
+    p.z = static_cast<float>(p.z + d.z());
+  }
+  Vec3 u(std::uint32_t t, std::uint32_t v) const {
+    const XpbdParticle& p = velocities[t][v];
+    return Vec3(p.x, p.y, p.z);
+  }
+  void push(std::uint32_t t, std::uint32_t v, const Vec3& d) const {
+    XpbdParticle& p = velocities[t][v];
+    p.x = static_cast<float>(p.x + d.x());
+    p.y = static_cast<float>(p.y + d.y());
+    p.z = static_cast<float>(p.z + d.z());
+  }
+};
+
 }  // namespace
 
 TissueContactSolver::TissueContactSolver(std::vector<ContactTissue> tissues, std::vector<TissueContactPair> pairs,
@@ -59,10 +93,15 @@ TissueContactSolver::TissueContactSolver(std::vector<ContactTissue> tissues, std
     body.start.resize(s.vertex_count());
     body.lo.resize(s.triangles.size());
     body.hi.resize(s.triangles.size());
+    body.motion.resize(s.vertex_count());
     body.grid.reset(s.triangles.size(), mean_triangle_extent(s) + 2 * body.reach);
     vertices += s.vertex_count();
   }
   candidates_.reserve(4 * vertices);
+  coupled_.assign(tissues_.size(), nullptr);
+  coupled_x_.resize(tissues_.size());
+  coupled_v_.resize(tissues_.size());
+  coupled_force_.reserve(capacity_);
 }
 
 TissueContactSolver::~TissueContactSolver() = default;
@@ -94,6 +133,7 @@ void TissueContactSolver::remodel(std::size_t t, const ContactTissue& tissue,
   body.start = tissue.state->positions;
   body.lo.resize(s.triangles.size());
   body.hi.resize(s.triangles.size());
+  body.motion.resize(s.vertex_count());
   body.grid.reset(s.triangles.size(), mean_triangle_extent(s) + 2 * body.reach);
   std::size_t vertices = 0;
   for (const Body& b : bodies_) vertices += tissues_[b.tissue].settings->vertex_count();
@@ -107,7 +147,7 @@ void TissueContactSolver::begin_step() {
   }
 }
 
-void TissueContactSolver::gather(const TissueContactPair& pair, Body& vb, Body& tb, bool self) {
+void TissueContactSolver::gather(const TissueContactPair& pair, Body& vb, Body& tb, bool self, bool predicted) {
   const MassSpringSettings& vs = *tissues_[vb.tissue].settings;
   const MassSpringSettings& ts = *tissues_[tb.tissue].settings;
   const std::vector<Vec3>& x = tissues_[vb.tissue].state->positions;
@@ -115,16 +155,19 @@ void TissueContactSolver::gather(const TissueContactPair& pair, Body& vb, Body& 
   for (std::uint32_t v = 0; v < x.size(); ++v) {
     const Vec3& p0 = vb.start[v];
     const Vec3& p = x[v];
-    const Real vertex_motion = (p - p0).norm();
+    // Where the vertex may go this step: from its start to its end, or (coupled, before the
+    // step is solved) anywhere within its motion bound of its start.
+    const Real vertex_motion = predicted ? vb.motion[v] : (p - p0).norm();
     const bool vertex_fixed = vs.inverse_masses[v] == 0;
-    tb.grid.query(component_min(p0, p), component_max(p0, p), [&](std::uint32_t t) {
+    const Vec3 lo = predicted ? Vec3(p0.array() - vertex_motion) : component_min(p0, p);
+    const Vec3 hi = predicted ? Vec3(p0.array() + vertex_motion) : component_max(p0, p);
+    tb.grid.query(lo, hi, [&](std::uint32_t t) {
       const Triangle& tri = ts.triangles[t];
       if (self && (tri[0] == v || tri[1] == v || tri[2] == v)) return;
       if (vertex_fixed && ts.inverse_masses[tri[0]] == 0 && ts.inverse_masses[tri[1]] == 0 &&
           ts.inverse_masses[tri[2]] == 0)
         return;
       // The box test the hash may have skipped (buckets are shared by distant cells).
-      const Vec3 lo = component_min(p0, p), hi = component_max(p0, p);
       if ((lo.array() > tb.hi[t].array()).any() || (hi.array() < tb.lo[t].array()).any()) return;
       const Vec3 &a0 = tb.start[tri[0]], &b0 = tb.start[tri[1]], &c0 = tb.start[tri[2]];
       const Vec3 &a = y[tri[0]], &b = y[tri[1]], &c = y[tri[2]];
@@ -138,7 +181,9 @@ void TissueContactSolver::gather(const TissueContactPair& pair, Body& vb, Body& 
         const Real s1 = (b - a).cross(c - a).dot(p - a);
         side = s0 > 0 ? 1 : s0 < 0 ? -1 : (s1 >= 0 ? 1 : -1);
       }
-      const Real triangle_motion = std::max({(a - a0).norm(), (b - b0).norm(), (c - c0).norm()});
+      const Real triangle_motion =
+          predicted ? std::max({tb.motion[tri[0]], tb.motion[tri[1]], tb.motion[tri[2]]})
+                    : std::max({(a - a0).norm(), (b - b0).norm(), (c - c0).norm()});
       Candidate c_{};
       c_.vertex_tissue = vb.tissue;
       c_.vertex = v;
@@ -160,19 +205,38 @@ void TissueContactSolver::gather(const TissueContactPair& pair, Body& vb, Body& 
   }
 }
 
-void TissueContactSolver::project_contact(Candidate& c) {
-  MassSpringState& vstate = *tissues_[c.vertex_tissue].state;
-  MassSpringState& tstate = *tissues_[c.triangle_tissue].state;
+template <typename Access>
+void TissueContactSolver::project_contact(Candidate& c, Access& access) {
   const MassSpringSettings& vs = *tissues_[c.vertex_tissue].settings;
   const MassSpringSettings& ts = *tissues_[c.triangle_tissue].settings;
   const Triangle& tri = ts.triangles[c.triangle];
-  Vec3& p = vstate.positions[c.vertex];
-  const Vec3 &a = tstate.positions[tri[0]], &b = tstate.positions[tri[1]], &cc = tstate.positions[tri[2]];
+  const std::uint32_t vt = c.vertex_tissue, tt = c.triangle_tissue;
+  const Vec3 p = access.x(vt, c.vertex);
+  const Vec3 a = access.x(tt, tri[0]), b = access.x(tt, tri[1]), cc = access.x(tt, tri[2]);
   c.adhered = false;
   const Vec3 normal_area = (b - a).cross(cc - a);
   const Real area2 = normal_area.norm();
   if (!(area2 > 0)) return;
   const Vec3 n = normal_area / area2;
+  // On the remembered side and beyond the gap from the plane, the vertex is beyond it from every
+  // point of the triangle too: only adhesion can act, and only over the face (below). The face
+  // test by barycentric coordinates is the closest-point query's kFace case without its edges
+  // (the query was a third of the coupled step).
+  const Real height = c.side * n.dot(p - a);
+  if (height > c.thickness) {
+    if (!(c.adhesion > 0) || height - c.thickness > c.adhesion_range) return;
+    const Vec3 e0 = b - a, e1 = cc - a, e2 = p - a;
+    const Real d00 = e0.dot(e0), d01 = e0.dot(e1), d11 = e1.dot(e1), d20 = e2.dot(e0), d21 = e2.dot(e1);
+    const Real den = d00 * d11 - d01 * d01;
+    if (!(den > 0)) return;
+    const Real b1 = (d11 * d20 - d01 * d21) / den, b2 = (d00 * d21 - d01 * d20) / den;
+    if (b1 < 0 || b2 < 0 || b1 + b2 > 1) return;  // beyond an edge: nothing to cling to
+    c.adhered = true;
+    c.excess = height - c.thickness;
+    c.direction = c.side * n;
+    c.bary = Vec3(1 - b1 - b2, b1, b2);
+    return;
+  }
   const TriangleClosestPoint q = closest_point_on_triangle(p, a, b, cc);
   Vec3 direction;
   Real distance;
@@ -207,7 +271,16 @@ void TissueContactSolver::project_contact(Candidate& c) {
     }
     return;
   }
-  if (violation > c.reach) return;  // deeper than this step's motion explains: not this triangle's
+  // Deeper than this step's motion explains: not this triangle's. Coupled, the motion so far
+  // (the gather's bound only says how far it may go).
+  Real reach = c.reach;
+  if (coupled_[vt] != nullptr) {
+    const Body& vb = bodies_[static_cast<std::size_t>(body_of_[vt])];
+    const Body& tb = bodies_[static_cast<std::size_t>(body_of_[tt])];
+    reach = 1.5 * c.thickness + (p - vb.start[c.vertex]).norm() +
+            std::max({(a - tb.start[tri[0]]).norm(), (b - tb.start[tri[1]]).norm(), (cc - tb.start[tri[2]]).norm()});
+  }
+  if (violation > reach) return;
   c.touching = true;
   c.direction = direction;
   c.bary = q.barycentric;
@@ -218,16 +291,16 @@ void TissueContactSolver::project_contact(Candidate& c) {
   const Real lambda = violation / w;
   // Same vertex in both roles cannot happen (incident triangles are skipped), so these
   // references never alias one another's written values within the update.
-  p += wp * lambda * direction;
-  tstate.positions[tri[0]] -= c.bary[0] * w0 * lambda * direction;
-  tstate.positions[tri[1]] -= c.bary[1] * w1 * lambda * direction;
-  tstate.positions[tri[2]] -= c.bary[2] * w2 * lambda * direction;
+  access.move(vt, c.vertex, wp * lambda * direction);
+  access.move(tt, tri[0], -c.bary[0] * w0 * lambda * direction);
+  access.move(tt, tri[1], -c.bary[1] * w1 * lambda * direction);
+  access.move(tt, tri[2], -c.bary[2] * w2 * lambda * direction);
   c.corrected = true;
 }
 
-void TissueContactSolver::contact_velocities(const Candidate& c, Real dt) {
-  MassSpringState& vstate = *tissues_[c.vertex_tissue].state;
-  MassSpringState& tstate = *tissues_[c.triangle_tissue].state;
+template <typename Access>
+void TissueContactSolver::contact_velocities(const Candidate& c, Real dt, Access& access) {
+  const std::uint32_t vt = c.vertex_tissue, tt = c.triangle_tissue;
   const MassSpringSettings& vs = *tissues_[c.vertex_tissue].settings;
   const MassSpringSettings& ts = *tissues_[c.triangle_tissue].settings;
   const Triangle& tri = ts.triangles[c.triangle];
@@ -235,8 +308,8 @@ void TissueContactSolver::contact_velocities(const Candidate& c, Real dt) {
   const Real wt[3] = {ts.inverse_masses[tri[0]], ts.inverse_masses[tri[1]], ts.inverse_masses[tri[2]]};
   const Real w = wp + c.bary[0] * c.bary[0] * wt[0] + c.bary[1] * c.bary[1] * wt[1] + c.bary[2] * c.bary[2] * wt[2];
   if (!(w > 0)) return;
-  const Vec3 relative = vstate.velocities[c.vertex] - c.bary[0] * tstate.velocities[tri[0]] -
-                        c.bary[1] * tstate.velocities[tri[1]] - c.bary[2] * tstate.velocities[tri[2]];
+  const Vec3 relative = access.u(vt, c.vertex) - c.bary[0] * access.u(tt, tri[0]) - c.bary[1] * access.u(tt, tri[1]) -
+                        c.bary[2] * access.u(tt, tri[2]);
   const Real normal = c.direction.dot(relative);  // > 0: separating
   const Vec3 tangential = relative - normal * c.direction;
   const Real slip = tangential.norm();
@@ -255,20 +328,19 @@ void TissueContactSolver::contact_velocities(const Candidate& c, Real dt) {
     // presses it as a normal force would, so Coulomb friction takes up to μ·adhesion·dt off its
     // sliding speed (it does not slide down a tilted wall).
     const Real pull = std::min(c.excess, c.adhesion * dt * dt) / w;
-    vstate.positions[c.vertex] -= wp * pull * c.direction;
-    for (int k = 0; k < 3; ++k) tstate.positions[tri[k]] += c.bary[k] * wt[k] * pull * c.direction;
+    access.move(vt, c.vertex, -wp * pull * c.direction);
+    for (int k = 0; k < 3; ++k) access.move(tt, tri[k], c.bary[k] * wt[k] * pull * c.direction);
     change = -std::clamp(normal, Real{0}, c.adhesion * dt) * c.direction;
     if (slip > 0) change -= std::min(slip, c.friction * c.adhesion * dt) * (tangential / slip);
   }
   const Vec3 impulse = change / w;  // per unit of w: Δv_p = w_p·impulse, Δv_i = −β_i w_i·impulse
-  vstate.velocities[c.vertex] += wp * impulse;
-  for (int k = 0; k < 3; ++k) tstate.velocities[tri[k]] -= c.bary[k] * wt[k] * impulse;
+  access.push(vt, c.vertex, wp * impulse);
+  for (int k = 0; k < 3; ++k) access.push(tt, tri[k], -c.bary[k] * wt[k] * impulse);
 }
 
-void TissueContactSolver::project_attachment(std::size_t i, Real alpha, Real dt) {
+template <typename Access>
+void TissueContactSolver::project_attachment(std::size_t i, Real alpha, Real dt, Access& access, bool move_velocities) {
   const AttachmentSpec& s = attachments_[i].spec;
-  MassSpringState& sa = *tissues_[s.a.tissue].state;
-  MassSpringState& sb = *tissues_[s.b.tissue].state;
   const MassSpringSettings& ma = *tissues_[s.a.tissue].settings;
   const MassSpringSettings& mb = *tissues_[s.b.tissue].settings;
   const Triangle& ta = ma.triangles[s.a.triangle];
@@ -280,19 +352,40 @@ void TissueContactSolver::project_attachment(std::size_t i, Real alpha, Real dt)
   // XPBD (Macklin, Müller & Chentanez 2016, eq. 18) for the vector constraint
   // C = x_a − (x_b + F_b·offset), F_b b's triangle frame (taken as constant within the step):
   // Δλ = −(C + α̃λ)/(w̃ + α̃), α̃ = compliance/dt².
-  Vec3 constraint = surface_position(ma, sa, s.a) - surface_position(mb, sb, s.b);
-  if (!s.offset.isZero()) constraint -= surface_frame(mb, sb, s.b) * s.offset;
+  const std::uint32_t at = s.a.tissue, bt = s.b.tissue;
+  Vec3 xa = Vec3::Zero(), xb = Vec3::Zero();
+  for (int k = 0; k < 3; ++k) {
+    xa += s.a.bary[k] * access.x(at, ta[k]);
+    xb += s.b.bary[k] * access.x(bt, tb[k]);
+  }
+  Vec3 constraint = xa - xb;
+  if (!s.offset.isZero()) {
+    // b's triangle frame (surface_frame) from the positions the access holds.
+    const Vec3 b0 = access.x(bt, tb[0]);
+    const Vec3 e = access.x(bt, tb[1]) - b0;
+    const Vec3 n = e.cross(access.x(bt, tb[2]) - b0);
+    Mat3 frame = Mat3::Identity();
+    if (e.norm() > 0 && n.norm() > 0) {
+      frame.col(0) = e.normalized();
+      frame.col(2) = n.normalized();
+      frame.col(1) = frame.col(2).cross(frame.col(0));
+    }
+    constraint -= frame * s.offset;
+  }
   const Vec3 delta = -(constraint + alpha * lambda_[i]) / w;
   lambda_[i] += delta;
-  // The move also enters the velocities (as XPBD's v = Δx/dt): otherwise a pulled vertex keeps
-  // the velocity the pull gave it and the constraint's force climbs step after step.
+  // After the integrators the move also enters the velocities (as XPBD's v = Δx/dt): otherwise a
+  // pulled vertex keeps the velocity the pull gave it and the constraint's force climbs step
+  // after step. Coupled, the substep's v = Δx/h does it.
   for (int k = 0; k < 3; ++k) {
     const Vec3 da = s.a.bary[k] * ma.inverse_masses[ta[k]] * delta;
     const Vec3 db = s.b.bary[k] * mb.inverse_masses[tb[k]] * delta;
-    sa.positions[ta[k]] += da;
-    sa.velocities[ta[k]] += da / dt;
-    sb.positions[tb[k]] -= db;
-    sb.velocities[tb[k]] -= db / dt;
+    access.move(at, ta[k], da);
+    access.move(bt, tb[k], -db);
+    if (move_velocities) {
+      access.push(at, ta[k], da / dt);
+      access.push(bt, tb[k], -db / dt);
+    }
   }
 }
 
@@ -320,19 +413,21 @@ void TissueContactSolver::solve(Real dt, Real time) {
     if (pair.a >= tissues_.size() || pair.b >= tissues_.size()) continue;
     Body& a = bodies_[static_cast<std::size_t>(body_of_[pair.a])];
     Body& b = bodies_[static_cast<std::size_t>(body_of_[pair.b])];
-    gather(pair, a, b, pair.a == pair.b);
-    if (pair.a != pair.b) gather(pair, b, a, false);
+    gather(pair, a, b, pair.a == pair.b, false);
+    if (pair.a != pair.b) gather(pair, b, a, false, false);
   }
 
+  StateAccess access{tissues_};
   const Real alpha_scale = 1 / (dt * dt);
   for (std::size_t i = 0; i < attachments_.size(); ++i) lambda_[i] = Vec3::Zero();
   for (int iteration = 0; iteration < kIterations; ++iteration) {
-    for (Candidate& c : candidates_) project_contact(c);
+    for (Candidate& c : candidates_) project_contact(c, access);
     for (std::size_t i = 0; i < attachments_.size(); ++i)
-      if (attachments_[i].holding) project_attachment(i, attachments_[i].spec.compliance * alpha_scale, dt);
+      if (attachments_[i].holding)
+        project_attachment(i, attachments_[i].spec.compliance * alpha_scale, dt, access, true);
   }
   for (const Candidate& c : candidates_) {
-    if (c.touching || c.adhered) contact_velocities(c, dt);
+    if (c.touching || c.adhered) contact_velocities(c, dt, access);
     if (c.corrected) ++corrected_;
   }
   for (std::size_t i = 0; i < attachments_.size(); ++i) {
@@ -344,6 +439,110 @@ void TissueContactSolver::solve(Real dt, Real time) {
       a.torn_at = time;
     }
   }
+}
+
+bool TissueContactSolver::can_couple(std::span<const CoupledTissue> tissues, std::span<const std::uint8_t> outside) const {
+  const auto stepped = [&](std::size_t t) { return t < tissues.size() && tissues[t].solver != nullptr; };
+  const auto away = [&](std::size_t t) { return t < outside.size() && outside[t] != 0; };
+  bool any = false;
+  for (const TissueContactPair& pair : pairs_) {
+    if (away(pair.a) || away(pair.b)) continue;  // a tissue outside the body: nothing to solve
+    // A tissue stepped otherwise (not XPBD) needs the solve after the integrators.
+    if (!stepped(pair.a) || !stepped(pair.b)) return false;
+    any = true;
+  }
+  for (const AttachmentState& a : attachments_) {
+    if (!a.holding) continue;
+    if (!stepped(a.spec.a.tissue) || !stepped(a.spec.b.tissue)) return false;
+    any = true;
+  }
+  return any;
+}
+
+bool TissueContactSolver::pair_coupled(const TissueContactPair& pair) const {
+  return pair.a < coupled_.size() && pair.b < coupled_.size() && coupled_[pair.a] != nullptr &&
+         coupled_[pair.b] != nullptr;
+}
+
+void TissueContactSolver::begin_coupled(std::span<const CoupledTissue> tissues, Real dt, int substeps) {
+  corrected_ = 0;
+  coupled_substeps_ = std::max(substeps, 1);
+  for (std::size_t t = 0; t < coupled_.size(); ++t) {
+    coupled_[t] = t < tissues.size() ? tissues[t].solver : nullptr;
+    coupled_x_[t] = coupled_[t] != nullptr ? coupled_[t]->view().x : std::span<XpbdParticle>();
+    coupled_v_[t] = coupled_[t] != nullptr ? coupled_[t]->velocities() : std::span<XpbdParticle>();
+  }
+  std::fill(coupled_force_.begin(), coupled_force_.end(), Real{0});
+  candidates_.clear();
+  // How far a vertex may move this step: twice its last step's (its velocity's) plus gravity's
+  // fall, at least kMotionFloor (an instrument can set a resting vertex moving), at most
+  // kMotionCap (the instruments' own contact reach is 3 m/s). A vertex that moves further within
+  // one step can cross a surface unseen (the instruments' contact has the same bound).
+  constexpr Real kMotionFloor = 5e-4, kMotionCap = 5e-3;
+  for (Body& body : bodies_) {
+    if (coupled_[body.tissue] == nullptr) continue;
+    const MassSpringSettings& s = *tissues_[body.tissue].settings;
+    const std::vector<Vec3>& u = tissues_[body.tissue].state->velocities;
+    const Real fall = s.gravity.norm() * dt * dt;
+    for (std::size_t v = 0; v < u.size(); ++v)
+      body.motion[v] = std::clamp(2 * u[v].norm() * dt + fall, kMotionFloor, kMotionCap);
+    for (std::size_t t = 0; t < s.triangles.size(); ++t) {
+      const Triangle& tri = s.triangles[t];
+      Vec3 lo = body.start[tri[0]], hi = lo;
+      Real grow = 0;
+      for (int k = 0; k < 3; ++k) {
+        lo = component_min(lo, body.start[tri[k]]);
+        hi = component_max(hi, body.start[tri[k]]);
+        grow = std::max(grow, body.motion[tri[k]]);
+      }
+      body.lo[t] = lo.array() - (grow + body.reach);
+      body.hi[t] = hi.array() + (grow + body.reach);
+    }
+    body.grid.build(body.lo, body.hi);
+  }
+  for (const TissueContactPair& pair : pairs_) {
+    if (!pair_coupled(pair)) continue;
+    Body& a = bodies_[static_cast<std::size_t>(body_of_[pair.a])];
+    Body& b = bodies_[static_cast<std::size_t>(body_of_[pair.b])];
+    gather(pair, a, b, pair.a == pair.b, true);
+    if (pair.a != pair.b) gather(pair, b, a, false, true);
+  }
+}
+
+void TissueContactSolver::solve_coupled_positions(Real h) {
+  ParticleAccess access{coupled_x_, coupled_v_};
+  for (Candidate& c : candidates_) {
+    c.touching = false;  // this substep's
+    project_contact(c, access);
+  }
+  const Real alpha_scale = 1 / (h * h);
+  for (std::size_t i = 0; i < attachments_.size(); ++i) {
+    if (!attachments_[i].holding) continue;
+    lambda_[i] = Vec3::Zero();  // one pass a substep, from zero ("Small steps" §4)
+    project_attachment(i, attachments_[i].spec.compliance * alpha_scale, h, access, false);
+    coupled_force_[i] += lambda_[i].norm() * alpha_scale;
+  }
+}
+
+void TissueContactSolver::solve_coupled_velocities(Real h) {
+  ParticleAccess access{coupled_x_, coupled_v_};
+  for (const Candidate& c : candidates_)
+    if (c.touching || c.adhered) contact_velocities(c, h, access);
+}
+
+void TissueContactSolver::end_coupled(Real time) {
+  for (const Candidate& c : candidates_)
+    if (c.corrected) ++corrected_;
+  for (std::size_t i = 0; i < attachments_.size(); ++i) {
+    AttachmentState& a = attachments_[i];
+    if (!a.holding) continue;
+    a.force = coupled_force_[i] / coupled_substeps_;
+    if (a.force > a.spec.pullout_force) {
+      a.holding = false;  // torn out: for good
+      a.torn_at = time;
+    }
+  }
+  std::fill(coupled_.begin(), coupled_.end(), nullptr);
 }
 
 std::size_t TissueContactSolver::attach(const AttachmentSpec& spec) {
@@ -359,6 +558,7 @@ std::size_t TissueContactSolver::attach(const AttachmentSpec& spec) {
     return kRefused;
   attachments_.push_back({spec, true, 0, -1});
   lambda_.push_back(Vec3::Zero());
+  coupled_force_.push_back(0);
   return attachments_.size() - 1;
 }
 

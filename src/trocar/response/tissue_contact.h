@@ -13,6 +13,7 @@
 #include "trocar/response/triangle_grid.h"
 #include "trocar/tissue/settings.h"
 #include "trocar/tissue/state.h"
+#include "trocar/tissue/xpbd.h"
 
 namespace trocar {
 
@@ -68,7 +69,27 @@ struct ContactTissue {
   MassSpringState* state = nullptr;
 };
 
-/// Solves the pairs' contacts and the attachments after the integrators.
+/// One tissue as the coupled solve steps it (by its index among the contact solver's tissues;
+/// solver null: not stepped in lock-step, e.g. not XPBD, or outside the body).
+struct CoupledTissue {
+  XpbdSolver* solver = nullptr;
+  MassSpringState* state = nullptr;
+  const TissueLoads* loads = nullptr;
+  XpbdContacts* contacts = nullptr;  ///< its instrument contact handler (null: none)
+};
+
+/// Solves the pairs' contacts and the attachments, either after the integrators (solve()) or,
+/// when every tissue they join is stepped by XPBD, inside the tissues' substeps, all of them in
+/// lock-step (coupled: begin_coupled() … end_coupled(); xpbd_coupling.h drives it).
+///
+/// Coupled, the contacts and tacks are constraints of one Gauss–Seidel system with each tissue's
+/// springs and its instruments: every substep, after the tissues' own constraints, one pass over
+/// the contacts and tacks moves both sides in proportion to their inverse masses, then the
+/// instruments' contacts; the velocities are the substep's Δx/h (XPBD), with the contacts'
+/// velocity pass (inelastic, friction, adhesion) after. After the integrators, the tissues'
+/// solvers and this one take turns: a vertex pinched between an instrument (inside a tissue's
+/// solver) and a tack into a light tissue (after it) is moved back and forth by both every step,
+/// and the back-and-forth becomes speed (docs/response.md, "Tissue against tissue").
 class TissueContactSolver {
  public:
   /// `attachment_capacity`: attachments held without allocating.
@@ -96,6 +117,25 @@ class TissueContactSolver {
   void remodel(std::size_t t, const ContactTissue& tissue, std::span<const std::uint32_t> triangle_origin,
                std::size_t old_triangle_count, Real time);
   std::span<const TissueContactPair> pairs() const { return pairs_; }
+
+  /// Whether the contacts and the holding tacks can be solved inside the substeps of the
+  /// tissues whose solvers are given (per tissue; null: not stepped in lock-step, e.g. not XPBD):
+  /// every holding tack joins two of them, and every pair joins two of them unless one of its
+  /// tissues is `outside` the body (per tissue, 1: waiting to enter; its pairs are skipped). False
+  /// also when there is nothing to solve.
+  bool can_couple(std::span<const CoupledTissue> tissues, std::span<const std::uint8_t> outside) const;
+  /// After begin_step() and every coupled solver's begin(): the candidates for this step, from
+  /// the start positions grown by how far each vertex may move in it (twice its last step's
+  /// motion and gravity's, at least 0.5 mm, at most 5 mm). `tissues` as can_couple (true for it;
+  /// null at a tissue outside the body).
+  void begin_coupled(std::span<const CoupledTissue> tissues, Real dt, int substeps);
+  /// Inside substep s of length h, after the tissues' own constraints: one pass over the contacts
+  /// and the tacks (each tack's multiplier starts at 0 every substep, as the springs' do).
+  void solve_coupled_positions(Real h);
+  /// After the substep's velocities: the contacts' velocity pass.
+  void solve_coupled_velocities(Real h);
+  /// After the substeps: each tack's force (the mean over the substeps) and its tearing at `time`.
+  void end_coupled(Real time);
   /// Vertices the last solve moved (all pairs).
   std::uint32_t corrected() const { return corrected_; }
 
@@ -108,6 +148,7 @@ class TissueContactSolver {
     Real side = 0;                  ///< closed: +1 outward normals (−1 inward); open: 0 (start side)
     std::vector<Vec3> start;        ///< positions at begin_step
     std::vector<Vec3> lo, hi;       ///< per triangle: box over start and end, ± reach
+    std::vector<Real> motion;       ///< coupled: per vertex, how far it may move this step (m)
     TriangleGrid grid;
   };
   /// A vertex near a triangle (of the same or another tissue) and the side it must stay on.
@@ -127,12 +168,21 @@ class TissueContactSolver {
     bool corrected;   ///< moved at least once this solve
   };
 
-  void gather(const TissueContactPair& pair, Body& vertices, Body& triangles, bool self);
-  void project_contact(Candidate& c);
-  void project_attachment(std::size_t i, Real alpha, Real dt);
+  /// `predicted`: the coupled gather (start ± each vertex's motion bound) instead of start and
+  /// end.
+  void gather(const TissueContactPair& pair, Body& vertices, Body& triangles, bool self, bool predicted);
+  // The projections, on the tissues' states (after the integrators) or on the coupled solvers'
+  // particles: `Access` reads and moves positions and velocities (tissue_contact.cpp).
+  template <typename Access>
+  void project_contact(Candidate& c, Access& access);
+  template <typename Access>
+  void project_attachment(std::size_t i, Real alpha, Real dt, Access& access, bool move_velocities);
   /// The velocity pass of a touching candidate (inelastic, friction), or of an adhered one (the
-  /// bounded pull back toward the gap, with friction).
-  void contact_velocities(const Candidate& c, Real dt);
+  /// bounded pull back toward the gap, with friction), over a step or substep of length dt.
+  template <typename Access>
+  void contact_velocities(const Candidate& c, Real dt, Access& access);
+  /// True when the pair's tissues are both stepped in lock-step (coupled).
+  bool pair_coupled(const TissueContactPair& pair) const;
 
   std::vector<ContactTissue> tissues_;
   std::vector<TissueContactPair> pairs_;
@@ -143,6 +193,12 @@ class TissueContactSolver {
   std::vector<Candidate> candidates_;
   std::size_t capacity_ = 0;
   std::uint32_t corrected_ = 0;
+  // Coupled: per tissue its solver (null: not in lock-step), the substeps, and per attachment
+  // Σ |λ|/h² over the substeps so far.
+  std::vector<XpbdSolver*> coupled_;
+  std::vector<std::span<XpbdParticle>> coupled_x_, coupled_v_;  ///< their particles and velocities
+  int coupled_substeps_ = 1;
+  std::vector<Real> coupled_force_;
 };
 
 /// The world position of a surface point.

@@ -35,6 +35,12 @@ void read_tissue_contacts(const JsonReader& list, Scene& scene) {
   }
 }
 
+void read_tissue_coupling(const JsonReader& key, Scene& scene) {
+  const std::string how = key.string();
+  if (how != "substeps" && how != "after") key.fail("must be \"substeps\" or \"after\"");
+  scene.settings.couple_tissues = how == "substeps";
+}
+
 void read_tissue_roll(const JsonReader& r, TissueBody& tissue) {
   r.expect_keys({"axis", "radius", "gap"});
   SheetRoll roll;

@@ -12,6 +12,11 @@ namespace trocar {
 /// contact). Call after the tissues are read; an unknown name fails naming the key.
 void read_tissue_contacts(const JsonReader& list, Scene& scene);
 
+/// "tissue_coupling": "substeps" (default: the contacts and tacks between XPBD tissues solved
+/// inside their substeps, the tissues in lock-step) or "after" (after the integrators) →
+/// scene.settings.couple_tissues. Anything else fails naming the key.
+void read_tissue_coupling(const JsonReader& key, Scene& scene);
+
 /// A tissue's "roll": {"axis": "x" | "y", "radius": m, "gap": m} rolls the tissue's current
 /// positions (mesh/prosthetic_mesh.h, roll_sheet) after its model is built, so the flat sheet
 /// stays the rest shape and its bending springs unroll it.

@@ -389,7 +389,7 @@ Scene parse_scene(std::string_view text, const std::string& file, const std::fil
   const JsonReader root(doc, file);
   root.expect_keys({"schema", "name", "timestep", "duration", "gravity", "tissues", "instruments", "rigids",
                     "collision", "response", "camera", "events", "anatomy", "tissue_contacts", "zones",
-                    "landmarks", "task"});
+                    "landmarks", "task", "tissue_coupling"});
   Scene scene;
   root.at("schema").integer(kSceneSchema, kSceneSchema);
   scene.name = root.string_or("name", std::filesystem::path(file).stem().string());
@@ -409,6 +409,7 @@ Scene parse_scene(std::string_view text, const std::string& file, const std::fil
   each("instruments", read_instrument);
   each("rigids", read_rigid);
   if (root.has("tissue_contacts")) read_tissue_contacts(root.at("tissue_contacts"), scene);  // contact_keys.h
+  if (root.has("tissue_coupling")) read_tissue_coupling(root.at("tissue_coupling"), scene);
   if (root.has("camera")) read_cameras(root.at("camera"), scene);
   if (root.has("events")) scene.actions = read_actions(root.at("events"), scene.world);
   // The real-time runtime presses them as buttons: a short press each, but the held ones (the

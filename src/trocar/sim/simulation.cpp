@@ -10,6 +10,7 @@
 
 #include "trocar/core/timer.h"
 #include "trocar/electrosurgery/electrode.h"
+#include "trocar/response/xpbd_coupling.h"
 #include "trocar/tissue/forces.h"
 
 namespace trocar {
@@ -74,6 +75,8 @@ Simulation::Simulation(World world, const SimulationSettings& settings)
   // Tissues that enter later wait far from everything (a kilometre out along x, apart from one
   // another and from the instruments parked beyond the ports, which wait along z).
   tissue_waiting_.assign(nt, 0);
+  coupled_.assign(nt, CoupledTissue{});
+  coupled_stats_.assign(nt, XpbdStats{});
   for (std::size_t t = 0; t < nt; ++t) {
     TissueBody& tissue = *world_.tissues[t];
     if (!(tissue.enters_at > 0)) continue;
@@ -355,18 +358,44 @@ void Simulation::admit_tissues() {
 void Simulation::deform(Real dt) {
   ResponseTally tally;
   tissue_contact_->begin_step();
+  // Tissues joined by a contact pair or a tack, all XPBD: stepped in lock-step, their contacts and
+  // tacks solved inside the substeps (response/xpbd_coupling.h); otherwise after them.
+  int substeps = 0;
   for (std::size_t t = 0; t < world_.tissues.size(); ++t) {
-    if (tissue_waiting_[t]) continue;  // outside the body: not stepped
     TissueBody& tissue = *world_.tissues[t];
-    const StepStats stats = tissue.integrator.step(tissue.state, tissue.loads, dt);
+    XpbdSolver* solver = tissue_waiting_[t] || !settings_.couple_tissues ? nullptr : tissue.integrator.xpbd();
+    coupled_[t] = CoupledTissue{solver, &tissue.state, &tissue.loads, tissue.integrator.contacts()};
+    if (solver != nullptr) substeps = std::max(substeps, solver->options().substeps);
+  }
+  const bool coupled = substeps > 0 && tissue_contact_->can_couple(coupled_, tissue_waiting_);
+  const auto finish = [&](std::size_t t, const StepStats& stats) {
+    TissueBody& tissue = *world_.tissues[t];
     if (yield_home(tissue.settings, tissue.state)) tissue.integrator.home_moved();  // plastic anchors
     metrics_.finite = metrics_.finite && stats.finite;
     metrics_.cg_iterations += static_cast<std::uint32_t>(stats.cg_iterations);
     metrics_.substeps = std::max(metrics_.substeps, static_cast<std::uint32_t>(stats.substeps));
     metrics_.constraint_error = std::max(metrics_.constraint_error, stats.constraint_error);
     credit_tissue(t, [&] { responses_[t]->after_integration(contacts_, dt, loads_, tally); });
+  };
+  for (std::size_t t = 0; t < world_.tissues.size(); ++t) {
+    if (tissue_waiting_[t]) continue;  // outside the body: not stepped
+    if (coupled && coupled_[t].solver != nullptr) continue;
+    TissueBody& tissue = *world_.tissues[t];
+    finish(t, tissue.integrator.step(tissue.state, tissue.loads, dt));
   }
-  tissue_contact_->solve(dt, time_);
+  if (coupled) {
+    step_coupled(coupled_, *tissue_contact_, dt, substeps, time_, coupled_stats_);
+    for (std::size_t t = 0; t < world_.tissues.size(); ++t) {
+      if (coupled_[t].solver == nullptr) continue;
+      StepStats stats;
+      stats.substeps = substeps;
+      stats.constraint_error = coupled_stats_[t].max_strain;
+      stats.finite = std::isfinite(coupled_stats_[t].max_strain);
+      finish(t, stats);
+    }
+  } else {
+    tissue_contact_->solve(dt, time_);
+  }
   metrics_.contacts += tally.contacts;
   metrics_.contacts_applied += tally.applied;
   metrics_.timings.projection = tally.after_us;

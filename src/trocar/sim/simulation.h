@@ -34,6 +34,11 @@ struct SimulationSettings {
   /// Tissue pairs whose surfaces must not cross (scene key "tissue_contacts"); empty: none, and the
   /// step does no tissue–tissue work.
   std::vector<TissueContactPair> tissue_contacts;
+  /// Solve those contacts and the tacks inside the XPBD substeps of the tissues they join, all
+  /// stepped in lock-step (docs/response.md, "Tissue against tissue"); false: after the
+  /// integrators, as for tissues of other integrators (scene key "tissue_coupling": "substeps",
+  /// "after").
+  bool couple_tissues = true;
 };
 
 /// Wall-clock time of each stage of the last step (µs).
@@ -271,6 +276,10 @@ class Simulation {
   void advance_ports();
   /// Per tissue: 1 while it waits outside (enters_at still ahead).
   std::vector<std::uint8_t> tissue_waiting_;
+  /// Per tissue: its XPBD solver (null when it is not stepped in lock-step with the others: not
+  /// XPBD, outside the body), state, loads and instrument contacts, and its coupled step's stats.
+  std::vector<CoupledTissue> coupled_;
+  std::vector<XpbdStats> coupled_stats_;
   void admit_tissues();
   // Electrosurgery (docs/electrosurgery.md).
   std::vector<std::uint8_t> energy_on_;                  ///< per instrument: pedal down

@@ -66,6 +66,7 @@ class MassSpringIntegrator {
   const ImplicitOptions& implicit_options() const { return options_; }
   /// xpbd: the contact handler every step solves inside its substeps (null: none). Not owned.
   void set_contacts(XpbdContacts* contacts) { contacts_ = contacts; }
+  XpbdContacts* contacts() const { return contacts_; }
   /// The settings' home anchors moved (yield_home()): copies them again where a pass keeps its own.
   void home_moved();
   /// The settings' springs `springs` changed stiffness, rest length or damping (coagulation):

@@ -152,6 +152,17 @@ void XpbdSolver::springs_changed(std::span<const std::uint32_t> springs) {
 }
 
 XpbdStats XpbdSolver::step(MassSpringState& state, const TissueLoads& loads, Real dt, XpbdContacts* contacts) {
+  begin(state, loads, dt, contacts, options_.substeps);
+  for (int s = 0; s < run_.substeps; ++s) {
+    substep_constraints(s);
+    substep_contacts(s);
+    substep_velocities();
+  }
+  return finish(state);
+}
+
+void XpbdSolver::begin(MassSpringState& state, const TissueLoads& loads, Real dt, XpbdContacts* contacts,
+                       int substeps) {
   const std::size_t n = x_.size() - 1;  // the padding particle stays at the origin, w = 0
   for (std::size_t k = 0; k < fixed_.size(); ++k) fixed_positions_[k] = state.positions[fixed_[k]];
   for (std::size_t i = 0; i < n; ++i) {
@@ -160,64 +171,91 @@ XpbdStats XpbdSolver::step(MassSpringState& state, const TissueLoads& loads, Rea
     x_[i] = {static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()), inverse_masses_[i]};
     v_[i] = {static_cast<float>(v.x()), static_cast<float>(v.y()), static_cast<float>(v.z()), 0.f};
   }
+  substeps = std::max(substeps, 1);
   if (!primed_) {
     // The last substep's start, as far as the state tells it: x − v h. (The rest shape would make
     // a deformed tissue look as if it had jumped there: the contacts' reach, which follows the
     // last substep's motion, would open to its widest for the first step.)
     primed_ = true;
-    const float h0 = static_cast<float>(dt / options_.substeps);
+    const float h0 = static_cast<float>(dt / substeps);
     for (std::size_t i = 0; i < n; ++i)
       previous_[i] = {x_[i].x - h0 * v_[i].x, x_[i].y - h0 * v_[i].y, x_[i].z - h0 * v_[i].z, 0.f};
   }
-  const XpbdView view{std::span(x_).first(n), std::span(previous_).first(n), settings_.masses, settings_.triangles};
-  const int substeps = options_.substeps;
-  if (contacts != nullptr) contacts->begin_step(view, substeps);
+  run_ = Run{};
+  run_.loads = &loads;
+  run_.contacts = contacts;
+  run_.dt = dt;
+  run_.substeps = substeps;
+  run_.h = static_cast<float>(dt / substeps);
+  run_.inv_h = 1.f / run_.h;
+  run_.damp = static_cast<float>(1.0 / (1.0 + dt / substeps * settings_.damping));
+  if (contacts != nullptr) contacts->begin_step(view(), substeps);
+}
 
-  const float h = static_cast<float>(dt / substeps);
-  const float inv_h = 1.f / h;
+XpbdView XpbdSolver::view() {
+  const std::size_t n = x_.size() - 1;
+  return XpbdView{std::span(x_).first(n), std::span(previous_).first(n), settings_.masses, settings_.triangles};
+}
+
+void XpbdSolver::substep_constraints(int s) {
+  const std::size_t n = x_.size() - 1;
+  const float h = run_.h;
+  const float inv_h = run_.inv_h;
   const float inv_h2 = inv_h * inv_h;
-  const float damp = static_cast<float>(1.0 / (1.0 + dt / substeps * settings_.damping));
+  const float damp = run_.damp;
   const float gx = static_cast<float>(settings_.gravity.x()) * h;
   const float gy = static_cast<float>(settings_.gravity.y()) * h;
   const float gz = static_cast<float>(settings_.gravity.z()) * h;
-  const std::span<const Vec3> forces = loads.forces();
-  for (int s = 0; s < substeps; ++s) {
-    // Predict: external forces only at the vertices loads touched.
-    if (!forces.empty())
-      for (const std::uint32_t v : loads.loaded_vertices()) {
-        const float hw = h * x_[v].w;
-        v_[v].x += hw * static_cast<float>(forces[v].x());
-        v_[v].y += hw * static_cast<float>(forces[v].y());
-        v_[v].z += hw * static_cast<float>(forces[v].z());
-      }
-    for (std::size_t i = 0; i < n; ++i) {
-      XpbdParticle& p = x_[i];
-      previous_[i] = p;
-      if (p.w == 0.f) continue;
-      XpbdParticle& u = v_[i];
-      u.x = (u.x + gx) * damp;
-      u.y = (u.y + gy) * damp;
-      u.z = (u.z + gz) * damp;
-      p.x += h * u.x;
-      p.y += h * u.y;
-      p.z += h * u.z;
+  const std::span<const Vec3> forces = run_.loads->forces();
+  // Predict: external forces only at the vertices loads touched.
+  if (!forces.empty())
+    for (const std::uint32_t v : run_.loads->loaded_vertices()) {
+      const float hw = h * x_[v].w;
+      v_[v].x += hw * static_cast<float>(forces[v].x());
+      v_[v].y += hw * static_cast<float>(forces[v].y());
+      v_[v].z += hw * static_cast<float>(forces[v].z());
     }
-    solve_springs(inv_h2, s + 1 == substeps);
-    if (area_compliance_ > 0) solve_triangles(inv_h2);
-    // The volume term once per step, on the last substep, with α̃ = α/(h·dt): one global
-    // constraint whose pass costs as much as the springs', and soft at the step's rate; α/(h·dt)
-    // gives its correction the impulse of a whole step (Δv = Δx/h = dt·F/m).
-    if (volume_compliance_ > 0 && s + 1 == substeps) solve_volume(inv_h / static_cast<float>(dt));
-    if (home_compliance_ > 0) solve_home(inv_h2);
-    if (contacts != nullptr) contacts->solve(view, s, substeps, h);
-    for (std::size_t i = 0; i < n; ++i) {
-      v_[i].x = (x_[i].x - previous_[i].x) * inv_h;
-      v_[i].y = (x_[i].y - previous_[i].y) * inv_h;
-      v_[i].z = (x_[i].z - previous_[i].z) * inv_h;
-    }
-    if (contacts != nullptr) contacts->solve_velocities(std::span(v_).first(n));
+  for (std::size_t i = 0; i < n; ++i) {
+    XpbdParticle& p = x_[i];
+    previous_[i] = p;
+    if (p.w == 0.f) continue;
+    XpbdParticle& u = v_[i];
+    u.x = (u.x + gx) * damp;
+    u.y = (u.y + gy) * damp;
+    u.z = (u.z + gz) * damp;
+    p.x += h * u.x;
+    p.y += h * u.y;
+    p.z += h * u.z;
   }
-  damp_springs(static_cast<float>(dt));
+  const bool last = s + 1 == run_.substeps;
+  solve_springs(inv_h2, last);
+  if (area_compliance_ > 0) solve_triangles(inv_h2);
+  // The volume term once per step, on the last substep, with α̃ = α/(h·dt): one global
+  // constraint whose pass costs as much as the springs', and soft at the step's rate; α/(h·dt)
+  // gives its correction the impulse of a whole step (Δv = Δx/h = dt·F/m).
+  if (volume_compliance_ > 0 && last) solve_volume(inv_h / static_cast<float>(run_.dt));
+  if (home_compliance_ > 0) solve_home(inv_h2);
+  run_.substep = s;
+}
+
+void XpbdSolver::substep_contacts(int s) {
+  if (run_.contacts != nullptr) run_.contacts->solve(view(), s, run_.substeps, run_.h);
+}
+
+void XpbdSolver::substep_velocities() {
+  const std::size_t n = x_.size() - 1;
+  const float inv_h = run_.inv_h;
+  for (std::size_t i = 0; i < n; ++i) {
+    v_[i].x = (x_[i].x - previous_[i].x) * inv_h;
+    v_[i].y = (x_[i].y - previous_[i].y) * inv_h;
+    v_[i].z = (x_[i].z - previous_[i].z) * inv_h;
+  }
+  if (run_.contacts != nullptr) run_.contacts->solve_velocities(std::span(v_).first(n));
+}
+
+XpbdStats XpbdSolver::finish(MassSpringState& state) {
+  const std::size_t n = x_.size() - 1;
+  damp_springs(static_cast<float>(run_.dt));
 
   XpbdStats stats;
   stats.max_strain = max_strain_;

@@ -90,6 +90,23 @@ class XpbdSolver {
   /// for bit and zero velocity.
   XpbdStats step(MassSpringState& state, const TissueLoads& loads, Real dt, XpbdContacts* contacts);
 
+  /// step() in its phases, for tissues stepped in lock-step with constraints between them solved
+  /// inside their substeps (response/tissue_contact.h, coupled): begin(); per substep s,
+  /// substep_constraints(s) (predict, the tissue's own constraints), substep_contacts(s) (the
+  /// instrument handler), substep_velocities() (v = Δx/h and the handler's velocity pass);
+  /// finish(). `substeps` replaces the options' count for this step. step() is exactly these.
+  void begin(MassSpringState& state, const TissueLoads& loads, Real dt, XpbdContacts* contacts, int substeps);
+  void substep_constraints(int s);
+  void substep_contacts(int s);
+  void substep_velocities();
+  XpbdStats finish(MassSpringState& state);
+  /// Between begin() and finish(): the particles as the solver holds them (positions, the
+  /// substep's start), and their velocities (m/s in x, y, z) after substep_velocities().
+  XpbdView view();
+  std::span<XpbdParticle> velocities() { return std::span(v_).first(v_.size() - 1); }
+  /// The substep length of the step under way (s).
+  Real substep_length() const { return run_.h; }
+
   const XpbdOptions& options() const { return options_; }
   void set_substeps(int substeps) { options_.substeps = substeps < 1 ? 1 : substeps; }
   /// The settings' springs `springs` (indices) changed stiffness, rest length or damping (a
@@ -110,6 +127,15 @@ class XpbdSolver {
 
   const MassSpringSettings& settings_;
   XpbdOptions options_;
+  /// The step under way (begin() to finish()).
+  struct Run {
+    const TissueLoads* loads = nullptr;
+    XpbdContacts* contacts = nullptr;
+    Real dt = 0;
+    int substeps = 1, substep = 0;
+    float h = 0, inv_h = 0, damp = 1;
+  };
+  Run run_;
   bool avx2_ = false;                         ///< the CPU has AVX2 + FMA: the 8-lane passes
   /// Particles: the vertices, then one padding particle (inverse mass 0) that the padding
   /// springs and triangles of each colour join to itself.
