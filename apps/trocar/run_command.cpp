@@ -274,6 +274,21 @@ void run(const Options& o) {
       {"state_hash", hash_hex(sim.state_hash())},
   };
   if (procedure) report["task"] = task_report(*procedure);
+  std::string where_unstable;
+  if (!stable) {
+    // Where it blew up: the fastest vertex of the first unstable step (the run stops there).
+    const Simulation::FastestVertex f = sim.fastest_vertex();
+    if (f.tissue < sim.world().tissues.size()) {
+      const std::string& tissue = sim.world().tissues[f.tissue]->name;
+      report["unstable"] = {{"time_s", sim.time()}, {"tissue", tissue}, {"vertex", f.vertex}, {"speed_m_s", f.speed},
+                            {"position_m", {f.position.x(), f.position.y(), f.position.z()}}};
+      char line[256];
+      std::snprintf(line, sizeof line, "unstable at t = %.3f s: %s vertex %u moving %.3g m/s at (%.1f, %.1f, %.1f) mm\n",
+                    sim.time(), tissue.c_str(), f.vertex, f.speed, 1e3 * f.position.x(), 1e3 * f.position.y(),
+                    1e3 * f.position.z());
+      where_unstable = line;
+    }
+  }
   if (has_electrosurgery(sim)) {
     report["electrosurgery"] = electrosurgery_report(sim);  // burn_report.h
     report["timing_us"]["step_while_burning"] = summary(t_burning);
@@ -307,6 +322,7 @@ void run(const Options& o) {
     std::printf("%s: %zu steps, %.3f s simulated in %.3f s; step median %.1f us; %s; hash %s\n", scene.name.c_str(),
                 done, sim.time(), wall, report["timing_us"]["step"]["median"].get<double>(),
                 stable ? "stable" : "UNSTABLE", hash_hex(sim.state_hash()).c_str());
+  if (!o.quiet) std::fputs(where_unstable.c_str(), stdout);
   if (procedure && !o.quiet) print_task(*procedure);
 }
 

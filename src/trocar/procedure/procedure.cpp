@@ -42,6 +42,7 @@ const char* to_string(TaskEventKind kind) {
     case TaskEventKind::kZoneBurnt: return "zone burnt";
     case TaskEventKind::kBleeding: return "bleeding";
     case TaskEventKind::kHaemostasis: return "haemostasis";
+    case TaskEventKind::kTackTornOut: return "tack torn out";
   }
   return "step done";
 }
@@ -115,6 +116,7 @@ void Procedure::update(const Simulation& sim) {
   watch_vessels(sim);
   watch_mesh(sim);
   watch_burns(sim);
+  watch_tacks(sim);
   evaluate(sim, TaskStep::kMeshFixed);  // cheap (a few tacks): its counts are shown before it is active
   for (std::size_t s = 0; s < kTaskSteps; ++s) {
     if (steps_[s].state == StepState::kDone) continue;
@@ -308,6 +310,22 @@ void Procedure::watch_mesh(const Simulation& sim) {
   }
 }
 
+void Procedure::watch_tacks(const Simulation& sim) {
+  const auto attachments = sim.attachments();
+  for (std::size_t k = 0; k < tacks_.size(); ++k) {
+    const TackRecord& r = tacks_[k];
+    if (tack_let_go_[k] != 0 || r.attachment >= attachments.size() || attachments[r.attachment].holding) continue;
+    tack_let_go_[k] = 1;
+    const AttachmentState& a = attachments[r.attachment];
+    const std::string from = r.tissue == kNoIndex ? std::string() : " of " + tissue_names_[r.tissue];
+    const std::string why = a.stretched_out ? std::string(" (stretched beyond its length)")
+                            : a.force > 0   ? format(" (%.1f N)", a.force)
+                                            : std::string(" (its tissue cut away)");
+    log(a.torn_at >= 0 ? a.torn_at : sim.time(), TaskEventKind::kTackTornOut, false, r.tip, r.zone,
+        format("tack %zu torn out%s%s", k + 1, from.c_str(), why.c_str()));
+  }
+}
+
 void Procedure::fire(Simulation& sim, std::size_t instrument) {
   if (instrument < sim.world().instruments.size() && sim.world().instruments[instrument].tool == "tacker")
     fire_tacker(sim, instrument);
@@ -315,6 +333,7 @@ void Procedure::fire(Simulation& sim, std::size_t instrument) {
 
 const TackRecord& Procedure::fire_tacker(Simulation& sim, std::size_t instrument) {
   tacks_.push_back(trocar::fire_tacker(sim, instrument, tacker_rules_.at(instrument), zones_, tack_landmarks_));
+  tack_let_go_.push_back(0);
   const TackRecord& r = tacks_.back();
   const std::string into = r.tissue == kNoIndex ? std::string() : " into " + tissue_names_[r.tissue];
   std::string near;

@@ -33,10 +33,11 @@ enum class TaskEventKind : std::uint8_t {
   kZoneBurnt,      ///< error: an electrode burning in a named zone
   kBleeding,       ///< error: a vessel cut, torn or burnt open (a wound bleeds)
   kHaemostasis,    ///< a bleeding wound sealed or clipped (a note; the time it took in the text)
+  kTackTornOut,    ///< a tack that held mesh to tissue let go: pulled out, or its tissue cut (a note)
 };
 
 /// "step done", "tack", "tack in zone", "tack not held", "zone force", "vessel grasped",
-/// "mesh dropped", "zone burnt", "bleeding", "haemostasis".
+/// "mesh dropped", "zone burnt", "bleeding", "haemostasis", "tack torn out".
 const char* to_string(TaskEventKind kind);
 
 /// One entry of the log.
@@ -113,6 +114,8 @@ class Procedure final : public ActionHandler {
   void watch_vessels(const Simulation& sim);
   void watch_mesh(const Simulation& sim);
   void watch_burns(const Simulation& sim);
+  /// Logs each fixed tack that stopped holding since the last update.
+  void watch_tacks(const Simulation& sim);
   bool evaluate(const Simulation& sim, TaskStep s);
   bool mesh_has_holding_tack(const Simulation& sim) const;
   Vec3 mesh_centroid(const Simulation& sim) const;
@@ -130,6 +133,7 @@ class Procedure final : public ActionHandler {
   StepStatus steps_[kTaskSteps];
   TaskMeasures measures_;
   std::vector<TackRecord> tacks_;
+  std::vector<std::uint8_t> tack_let_go_;  ///< per tack: its letting go was logged
   std::vector<TaskEvent> events_;
   /// Per (instrument, zone): the current touching episode.
   struct ZoneEpisode {

@@ -16,6 +16,13 @@ namespace {
 /// (tests/response/tissue_contact_test.cpp) meets its 0.5 mm p99 with 4; more cost linearly.
 constexpr int kIterations = 4;
 
+/// Coupled: the fastest a tack draws its two points together (m/s), about the fastest an
+/// instrument moves tissue in the procedure (the studies' fastest poke is 2 m/s).
+constexpr Real kTackSpeed = 1.0;
+/// Coupled: a tack stretched further than its own length (m) has come out (helical titanium tacks
+/// are about 4 mm long; assumed).
+constexpr Real kTackLength = 0.004;
+
 Vec3 component_min(const Vec3& a, const Vec3& b) { return a.cwiseMin(b); }
 Vec3 component_max(const Vec3& a, const Vec3& b) { return a.cwiseMax(b); }
 
@@ -339,7 +346,8 @@ void TissueContactSolver::contact_velocities(const Candidate& c, Real dt, Access
 }
 
 template <typename Access>
-void TissueContactSolver::project_attachment(std::size_t i, Real alpha, Real dt, Access& access, bool move_velocities) {
+bool TissueContactSolver::project_attachment(std::size_t i, Real alpha, Real dt, Access& access, bool move_velocities,
+                                             Real stretch_limit, Real max_move) {
   const AttachmentSpec& s = attachments_[i].spec;
   const MassSpringSettings& ma = *tissues_[s.a.tissue].settings;
   const MassSpringSettings& mb = *tissues_[s.b.tissue].settings;
@@ -348,7 +356,7 @@ void TissueContactSolver::project_attachment(std::size_t i, Real alpha, Real dt,
   Real w = alpha;
   for (int k = 0; k < 3; ++k)
     w += s.a.bary[k] * s.a.bary[k] * ma.inverse_masses[ta[k]] + s.b.bary[k] * s.b.bary[k] * mb.inverse_masses[tb[k]];
-  if (!(w > 0)) return;
+  if (!(w > 0)) return true;
   // XPBD (Macklin, Müller & Chentanez 2016, eq. 18) for the vector constraint
   // C = x_a − (x_b + F_b·offset), F_b b's triangle frame (taken as constant within the step):
   // Δλ = −(C + α̃λ)/(w̃ + α̃), α̃ = compliance/dt².
@@ -372,7 +380,12 @@ void TissueContactSolver::project_attachment(std::size_t i, Real alpha, Real dt,
     }
     constraint -= frame * s.offset;
   }
-  const Vec3 delta = -(constraint + alpha * lambda_[i]) / w;
+  const Real stretch = constraint.norm();
+  if (stretch > stretch_limit) return false;  // torn: nothing moves
+  Vec3 delta = -(constraint + alpha * lambda_[i]) / w;
+  // The pass draws the two points together by (w − α̃)·|Δλ| (w includes α̃): at most max_move.
+  const Real closing = (w - alpha) * delta.norm();
+  if (closing > max_move) delta *= max_move / closing;
   lambda_[i] += delta;
   // After the integrators the move also enters the velocities (as XPBD's v = Δx/dt): otherwise a
   // pulled vertex keeps the velocity the pull gave it and the constraint's force climbs step
@@ -387,6 +400,7 @@ void TissueContactSolver::project_attachment(std::size_t i, Real alpha, Real dt,
       access.push(bt, tb[k], -db / dt);
     }
   }
+  return true;
 }
 
 void TissueContactSolver::solve(Real dt, Real time) {
@@ -424,7 +438,8 @@ void TissueContactSolver::solve(Real dt, Real time) {
     for (Candidate& c : candidates_) project_contact(c, access);
     for (std::size_t i = 0; i < attachments_.size(); ++i)
       if (attachments_[i].holding)
-        project_attachment(i, attachments_[i].spec.compliance * alpha_scale, dt, access, true);
+        project_attachment(i, attachments_[i].spec.compliance * alpha_scale, dt, access, true,
+                           std::numeric_limits<Real>::infinity(), std::numeric_limits<Real>::infinity());
   }
   for (const Candidate& c : candidates_) {
     if (c.touching || c.adhered) contact_velocities(c, dt, access);
@@ -517,9 +532,19 @@ void TissueContactSolver::solve_coupled_positions(Real h) {
   }
   const Real alpha_scale = 1 / (h * h);
   for (std::size_t i = 0; i < attachments_.size(); ++i) {
-    if (!attachments_[i].holding) continue;
+    AttachmentState& a = attachments_[i];
+    if (!a.holding || a.stretched_out) continue;
     lambda_[i] = Vec3::Zero();  // one pass a substep, from zero ("Small steps" §4)
-    project_attachment(i, attachments_[i].spec.compliance * alpha_scale, h, access, false);
+    // A tack pulls its two points together no faster than kTackSpeed: a tack into a light tissue
+    // that an instrument presses against the mesh would otherwise fling that tissue back at the
+    // stretch per substep (10 mm in 0.25 ms: the vas deferens under the novice's tacker at
+    // 40 m/s), and its force, m·a of a light tissue, stays far under the pull-out force. Stretched
+    // beyond the tack's own length it holds nothing and is torn out.
+    if (!project_attachment(i, a.spec.compliance * alpha_scale, h, access, false, kTackLength,
+                            std::numeric_limits<Real>::infinity())) {
+      a.stretched_out = true;  // torn at end_coupled
+      continue;
+    }
     coupled_force_[i] += lambda_[i].norm() * alpha_scale;
   }
 }
@@ -537,7 +562,7 @@ void TissueContactSolver::end_coupled(Real time) {
     AttachmentState& a = attachments_[i];
     if (!a.holding) continue;
     a.force = coupled_force_[i] / coupled_substeps_;
-    if (a.force > a.spec.pullout_force) {
+    if (a.force > a.spec.pullout_force || a.stretched_out) {
       a.holding = false;  // torn out: for good
       a.torn_at = time;
     }
@@ -556,7 +581,7 @@ std::size_t TissueContactSolver::attach(const AttachmentSpec& spec) {
   if (!(spec.pullout_force > 0) || !(spec.compliance >= 0) || !std::isfinite(spec.compliance) ||
       !spec.offset.allFinite())
     return kRefused;
-  attachments_.push_back({spec, true, 0, -1});
+  attachments_.push_back({spec, true, 0, -1, false});
   lambda_.push_back(Vec3::Zero());
   coupled_force_.push_back(0);
   return attachments_.size() - 1;

@@ -61,6 +61,8 @@ struct AttachmentState {
   bool holding = true;   ///< false once torn out
   Real force = 0;        ///< the constraint force of the last step (N)
   Real torn_at = -1;     ///< simulated time it tore (s), < 0 while holding
+  /// Torn because it was stretched beyond a tack's length (coupled solve), whatever its force.
+  bool stretched_out = false;
 };
 
 /// The tissues as the solver sees them (pieces live in the World; they never move).
@@ -83,13 +85,14 @@ struct CoupledTissue {
 /// lock-step (coupled: begin_coupled() … end_coupled(); xpbd_coupling.h drives it).
 ///
 /// Coupled, the contacts and tacks are constraints of one Gauss–Seidel system with each tissue's
-/// springs and its instruments: every substep, after the tissues' own constraints, one pass over
-/// the contacts and tacks moves both sides in proportion to their inverse masses, then the
-/// instruments' contacts; the velocities are the substep's Δx/h (XPBD), with the contacts'
-/// velocity pass (inelastic, friction, adhesion) after. After the integrators, the tissues'
-/// solvers and this one take turns: a vertex pinched between an instrument (inside a tissue's
-/// solver) and a tack into a light tissue (after it) is moved back and forth by both every step,
-/// and the back-and-forth becomes speed (docs/response.md, "Tissue against tissue").
+/// springs and its instruments: every substep, after the tissues' own constraints and their
+/// instruments' contacts, one pass over the contacts and tacks moves both sides in proportion to
+/// their inverse masses; the velocities are the substep's Δx/h (XPBD), with the contacts' velocity
+/// pass (inelastic, friction, adhesion) after. The tissue pass comes last, as it did after the
+/// integrators: with the instruments last instead, a grasper pressing the light mesh into the
+/// wall's gap and the contact pushing it back out fed each other until the TAPP scene blew up
+/// (2.89 s into the expert track). After the integrators, the tissues' solvers and this one take
+/// turns a whole step apart, and a tack's pull enters the velocities as Δx/dt on top.
 class TissueContactSolver {
  public:
   /// `attachment_capacity`: attachments held without allocating.
@@ -175,8 +178,11 @@ class TissueContactSolver {
   // particles: `Access` reads and moves positions and velocities (tissue_contact.cpp).
   template <typename Access>
   void project_contact(Candidate& c, Access& access);
+  /// False (and nothing moved) when the attachment is stretched past `stretch_limit` (m); the
+  /// pass closes at most `max_move` (m) of the stretch.
   template <typename Access>
-  void project_attachment(std::size_t i, Real alpha, Real dt, Access& access, bool move_velocities);
+  bool project_attachment(std::size_t i, Real alpha, Real dt, Access& access, bool move_velocities,
+                          Real stretch_limit, Real max_move);
   /// The velocity pass of a touching candidate (inelastic, friction), or of an adhered one (the
   /// bounded pull back toward the gap, with friction), over a step or substep of length dt.
   template <typename Access>

@@ -11,9 +11,9 @@
 namespace trocar {
 
 /// Steps every tissue with a solver by dt in `substeps` substeps: per substep, each tissue's own
-/// constraints, then one pass over the contacts and tacks between them (moving both sides), then
-/// each tissue's instrument contacts (the instruments have the last word: they are not pushed
-/// back), the velocities Δx/h and the velocity passes. `contact.begin_step()` must have been
+/// constraints and its instrument contacts, then one pass over the contacts and tacks between the
+/// tissues (moving both sides), then the velocities Δx/h and the velocity passes (tissue_contact.h
+/// says why the tissue pass comes last). `contact.begin_step()` must have been
 /// called with the states at the step's start, and `contact.can_couple` must hold for these
 /// solvers. Writes each stepped tissue's statistics into stats[t]. No allocation after warm-up.
 void step_coupled(std::span<const CoupledTissue> tissues, TissueContactSolver& contact, Real dt, int substeps,

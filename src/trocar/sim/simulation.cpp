@@ -437,6 +437,20 @@ std::uint64_t Simulation::state_hash() const {
   return h;
 }
 
+Simulation::FastestVertex Simulation::fastest_vertex() const {
+  FastestVertex best;
+  for (std::size_t t = 0; t < world_.tissues.size(); ++t) {
+    const MassSpringState& state = world_.tissues[t]->state;
+    for (std::size_t v = 0; v < state.velocities.size(); ++v) {
+      Real speed = state.velocities[v].norm();
+      if (!std::isfinite(speed)) speed = std::numeric_limits<Real>::infinity();
+      if (best.tissue != static_cast<std::size_t>(-1) && !(speed > best.speed)) continue;
+      best = {t, static_cast<std::uint32_t>(v), speed, state.positions[v]};
+    }
+  }
+  return best;
+}
+
 std::string hash_hex(std::uint64_t hash) {
   char text[17];
   std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(hash));

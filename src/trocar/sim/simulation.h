@@ -217,6 +217,15 @@ class Simulation {
   /// FNV-1a 64-bit hash of the bits of every tissue's positions and velocities and every
   /// instrument's pose (rotation coefficients, translation) and jaw.
   std::uint64_t state_hash() const;
+  /// The fastest tissue vertex now (where a blow-up shows first; `trocar run` names it). A
+  /// non-finite speed counts as the fastest; speed 0 and tissue SIZE_MAX when there is none.
+  struct FastestVertex {
+    std::size_t tissue = static_cast<std::size_t>(-1);
+    std::uint32_t vertex = 0;
+    Real speed = 0;
+    Vec3 position = Vec3::Zero();
+  };
+  FastestVertex fastest_vertex() const;
   /// Tissue t's collision response (its own contact points, for display).
   const TissueResponse& response(std::size_t t) const { return *responses_[t]; }
   /// Fixes two tissue surface points together (a tack); returns the attachment's index, or
