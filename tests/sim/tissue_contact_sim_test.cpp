@@ -59,9 +59,7 @@ TEST(TissueContactInSimulation, SceneKeysReachTheSolver) {
 
 /// The mesh-on-wall scene with both tissues XPBD (4 substeps) and the given "tissue_coupling".
 std::string xpbd_mesh_on_wall(const std::string& coupling) {
-  std::string text = test::mesh_on_wall_scene();
-  for (std::size_t at = text.find("implicit-euler"); at != std::string::npos; at = text.find("implicit-euler"))
-    text.replace(at, 14, "xpbd");
+  std::string text = test::mesh_on_wall_scene(false, "xpbd");
   if (!coupling.empty()) text.insert(text.rfind('}'), R"(, "tissue_coupling": ")" + coupling + "\"\n");
   return text;
 }
