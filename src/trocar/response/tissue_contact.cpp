@@ -16,9 +16,6 @@ namespace {
 /// (tests/response/tissue_contact_test.cpp) meets its 0.5 mm p99 with 4; more cost linearly.
 constexpr int kIterations = 4;
 
-/// Coupled: the fastest a tack draws its two points together (m/s), about the fastest an
-/// instrument moves tissue in the procedure (the studies' fastest poke is 2 m/s).
-constexpr Real kTackSpeed = 1.0;
 /// Coupled: a tack stretched further than its own length (m) has come out (helical titanium tacks
 /// are about 4 mm long; assumed).
 constexpr Real kTackLength = 0.004;
@@ -347,7 +344,7 @@ void TissueContactSolver::contact_velocities(const Candidate& c, Real dt, Access
 
 template <typename Access>
 bool TissueContactSolver::project_attachment(std::size_t i, Real alpha, Real dt, Access& access, bool move_velocities,
-                                             Real stretch_limit, Real max_move) {
+                                             Real stretch_limit) {
   const AttachmentSpec& s = attachments_[i].spec;
   const MassSpringSettings& ma = *tissues_[s.a.tissue].settings;
   const MassSpringSettings& mb = *tissues_[s.b.tissue].settings;
@@ -382,10 +379,7 @@ bool TissueContactSolver::project_attachment(std::size_t i, Real alpha, Real dt,
   }
   const Real stretch = constraint.norm();
   if (stretch > stretch_limit) return false;  // torn: nothing moves
-  Vec3 delta = -(constraint + alpha * lambda_[i]) / w;
-  // The pass draws the two points together by (w − α̃)·|Δλ| (w includes α̃): at most max_move.
-  const Real closing = (w - alpha) * delta.norm();
-  if (closing > max_move) delta *= max_move / closing;
+  const Vec3 delta = -(constraint + alpha * lambda_[i]) / w;
   lambda_[i] += delta;
   // After the integrators the move also enters the velocities (as XPBD's v = Δx/dt): otherwise a
   // pulled vertex keeps the velocity the pull gave it and the constraint's force climbs step
@@ -439,7 +433,7 @@ void TissueContactSolver::solve(Real dt, Real time) {
     for (std::size_t i = 0; i < attachments_.size(); ++i)
       if (attachments_[i].holding)
         project_attachment(i, attachments_[i].spec.compliance * alpha_scale, dt, access, true,
-                           std::numeric_limits<Real>::infinity(), std::numeric_limits<Real>::infinity());
+                           std::numeric_limits<Real>::infinity());
   }
   for (const Candidate& c : candidates_) {
     if (c.touching || c.adhered) contact_velocities(c, dt, access);
@@ -535,13 +529,12 @@ void TissueContactSolver::solve_coupled_positions(Real h) {
     AttachmentState& a = attachments_[i];
     if (!a.holding || a.stretched_out) continue;
     lambda_[i] = Vec3::Zero();  // one pass a substep, from zero ("Small steps" §4)
-    // A tack pulls its two points together no faster than kTackSpeed: a tack into a light tissue
-    // that an instrument presses against the mesh would otherwise fling that tissue back at the
-    // stretch per substep (10 mm in 0.25 ms: the vas deferens under the novice's tacker at
-    // 40 m/s), and its force, m·a of a light tissue, stays far under the pull-out force. Stretched
-    // beyond the tack's own length it holds nothing and is torn out.
-    if (!project_attachment(i, a.spec.compliance * alpha_scale, h, access, false, kTackLength,
-                            std::numeric_limits<Real>::infinity())) {
+    // Stretched beyond a tack's own length within a substep, it holds nothing and has come out. A
+    // tack into a light tissue that an instrument presses against the mesh would otherwise fling
+    // that tissue back by the stretch in one substep (10 mm in 0.25 ms: the vas deferens under
+    // the novice's tacker at 40 m/s), while its force, m·a of a light tissue, stays far under
+    // the pull-out force.
+    if (!project_attachment(i, a.spec.compliance * alpha_scale, h, access, false, kTackLength)) {
       a.stretched_out = true;  // torn at end_coupled
       continue;
     }

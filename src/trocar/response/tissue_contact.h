@@ -178,11 +178,10 @@ class TissueContactSolver {
   // particles: `Access` reads and moves positions and velocities (tissue_contact.cpp).
   template <typename Access>
   void project_contact(Candidate& c, Access& access);
-  /// False (and nothing moved) when the attachment is stretched past `stretch_limit` (m); the
-  /// pass closes at most `max_move` (m) of the stretch.
+  /// False (and nothing moved) when the attachment is stretched past `stretch_limit` (m).
   template <typename Access>
   bool project_attachment(std::size_t i, Real alpha, Real dt, Access& access, bool move_velocities,
-                          Real stretch_limit, Real max_move);
+                          Real stretch_limit);
   /// The velocity pass of a touching candidate (inelastic, friction), or of an adhered one (the
   /// bounded pull back toward the gap, with friction), over a step or substep of length dt.
   template <typename Access>
