@@ -19,21 +19,36 @@
 namespace trocar {
 namespace {
 
-void BM_TissueContactMeshOnWall(benchmark::State& state) {
-  const Vec3 g(0, 0, -9.81);
-  FixedSelection border;
-  border.indices = {0, 25, 520, 545};  // the corners of the 26 × 21 grid
-  MassSpringMaterial wm = material_preset("peritoneum");
-  wm.k_home = 20;
-  const MassSpringSettings wall = MassSpringSettings::build(make_sheet(0.2, 0.16, 25, 20), wm, border, g);
-  TriMesh sheet = make_prosthetic_mesh(0.15, 0.10, 0.005);
-  for (Vec3& p : sheet.positions) p.z() += 0.003;
-  const MassSpringSettings mesh = MassSpringSettings::build(sheet, material_preset("polypropylene-mesh"), {}, g);
-  MassSpringState ws = MassSpringState::at_rest(wall), ms = MassSpringState::at_rest(mesh);
-  MassSpringIntegrator wi(wall, IntegratorKind::kImplicitEuler), mi(mesh, IntegratorKind::kImplicitEuler);
+/// The wall sheet (corners fixed) and the mesh 3 mm over it, each with its state, integrator of
+/// `kind` and loads.
+struct MeshOnWall {
+  MassSpringSettings wall, mesh;
+  MassSpringState ws, ms;
+  MassSpringIntegrator wi, mi;
   TissueLoads wl, ml;
-  wl.reset(wall.vertex_count());
-  ml.reset(mesh.vertex_count());
+  static MassSpringSettings wall_model() {
+    FixedSelection border;
+    border.indices = {0, 25, 520, 545};  // the corners of the 26 × 21 grid
+    MassSpringMaterial wm = material_preset("peritoneum");
+    wm.k_home = 20;
+    return MassSpringSettings::build(make_sheet(0.2, 0.16, 25, 20), wm, border, Vec3(0, 0, -9.81));
+  }
+  static MassSpringSettings mesh_model() {
+    TriMesh sheet = make_prosthetic_mesh(0.15, 0.10, 0.005);
+    for (Vec3& p : sheet.positions) p.z() += 0.003;
+    return MassSpringSettings::build(sheet, material_preset("polypropylene-mesh"), {}, Vec3(0, 0, -9.81));
+  }
+  explicit MeshOnWall(IntegratorKind kind)
+      : wall(wall_model()), mesh(mesh_model()), ws(MassSpringState::at_rest(wall)), ms(MassSpringState::at_rest(mesh)),
+        wi(wall, kind), mi(mesh, kind) {
+    wl.reset(wall.vertex_count());
+    ml.reset(mesh.vertex_count());
+  }
+};
+
+void BM_TissueContactMeshOnWall(benchmark::State& state) {
+  MeshOnWall scene(IntegratorKind::kImplicitEuler);
+  auto& [wall, mesh, ws, ms, wi, mi, wl, ml] = scene;
   TissueContactSolver solver({{&wall, &ws}, {&mesh, &ms}}, {{1, 0, 1e-3, 0.3}, {1, 1, 1e-3, 0.3}});
   constexpr Real dt = 1e-3;
   Real t = 0;
@@ -64,20 +79,8 @@ BENCHMARK(BM_TissueContactMeshOnWall)->Unit(benchmark::kMicrosecond);
 // integrators followed by the pass after them (arg 0). Both from the same settled state.
 void BM_XpbdMeshOnWallStep(benchmark::State& state) {
   const bool coupled = state.range(0) != 0;
-  const Vec3 g(0, 0, -9.81);
-  FixedSelection border;
-  border.indices = {0, 25, 520, 545};
-  MassSpringMaterial wm = material_preset("peritoneum");
-  wm.k_home = 20;
-  const MassSpringSettings wall = MassSpringSettings::build(make_sheet(0.2, 0.16, 25, 20), wm, border, g);
-  TriMesh sheet = make_prosthetic_mesh(0.15, 0.10, 0.005);
-  for (Vec3& p : sheet.positions) p.z() += 0.003;
-  const MassSpringSettings mesh = MassSpringSettings::build(sheet, material_preset("polypropylene-mesh"), {}, g);
-  MassSpringState ws = MassSpringState::at_rest(wall), ms = MassSpringState::at_rest(mesh);
-  MassSpringIntegrator wi(wall, IntegratorKind::kXpbd), mi(mesh, IntegratorKind::kXpbd);
-  TissueLoads wl, ml;
-  wl.reset(wall.vertex_count());
-  ml.reset(mesh.vertex_count());
+  MeshOnWall scene(IntegratorKind::kXpbd);
+  auto& [wall, mesh, ws, ms, wi, mi, wl, ml] = scene;
   TissueContactSolver solver({{&wall, &ws}, {&mesh, &ms}}, {{1, 0, 1e-3, 0.3}});
   const CoupledTissue tissues[] = {{wi.xpbd(), &ws, &wl, nullptr}, {mi.xpbd(), &ms, &ml, nullptr}};
   XpbdStats stats[2];

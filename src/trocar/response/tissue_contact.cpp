@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 
+#include "trocar/geometry/barycentric.h"
 #include "trocar/geometry/closest_point.h"
 
 namespace trocar {
@@ -53,18 +54,13 @@ struct ParticleAccess {
     const XpbdParticle& p = positions[t][v];
     return Vec3(p.x, p.y, p.z);
   }
-  void move(std::uint32_t t, std::uint32_t v, const Vec3& d) const {
-    XpbdParticle& p = positions[t][v];
-    p.x = static_cast<float>(p.x + d.x());
-    p.y = static_cast<float>(p.y + d.y());
-    p.z = static_cast<float>(p.z + d.z());
-  }
+  void move(std::uint32_t t, std::uint32_t v, const Vec3& d) const { add(positions[t][v], d); }
   Vec3 u(std::uint32_t t, std::uint32_t v) const {
     const XpbdParticle& p = velocities[t][v];
     return Vec3(p.x, p.y, p.z);
   }
-  void push(std::uint32_t t, std::uint32_t v, const Vec3& d) const {
-    XpbdParticle& p = velocities[t][v];
+  void push(std::uint32_t t, std::uint32_t v, const Vec3& d) const { add(velocities[t][v], d); }
+  static void add(XpbdParticle& p, const Vec3& d) {
     p.x = static_cast<float>(p.x + d.x());
     p.y = static_cast<float>(p.y + d.y());
     p.z = static_cast<float>(p.z + d.z());
@@ -229,16 +225,12 @@ void TissueContactSolver::project_contact(Candidate& c, Access& access) {
   const Real height = c.side * n.dot(p - a);
   if (height > c.thickness) {
     if (!(c.adhesion > 0) || height - c.thickness > c.adhesion_range) return;
-    const Vec3 e0 = b - a, e1 = cc - a, e2 = p - a;
-    const Real d00 = e0.dot(e0), d01 = e0.dot(e1), d11 = e1.dot(e1), d20 = e2.dot(e0), d21 = e2.dot(e1);
-    const Real den = d00 * d11 - d01 * d01;
-    if (!(den > 0)) return;
-    const Real b1 = (d11 * d20 - d01 * d21) / den, b2 = (d00 * d21 - d01 * d20) / den;
-    if (b1 < 0 || b2 < 0 || b1 + b2 > 1) return;  // beyond an edge: nothing to cling to
+    const Vec3 bary = barycentric(p, a, b, cc);
+    if ((bary.array() < 0).any()) return;  // beyond an edge: nothing to cling to
     c.adhered = true;
     c.excess = height - c.thickness;
     c.direction = c.side * n;
-    c.bary = Vec3(1 - b1 - b2, b1, b2);
+    c.bary = bary;
     return;
   }
   const TriangleClosestPoint q = closest_point_on_triangle(p, a, b, cc);
@@ -365,17 +357,8 @@ bool TissueContactSolver::project_attachment(std::size_t i, Real alpha, Real dt,
   }
   Vec3 constraint = xa - xb;
   if (!s.offset.isZero()) {
-    // b's triangle frame (surface_frame) from the positions the access holds.
-    const Vec3 b0 = access.x(bt, tb[0]);
-    const Vec3 e = access.x(bt, tb[1]) - b0;
-    const Vec3 n = e.cross(access.x(bt, tb[2]) - b0);
-    Mat3 frame = Mat3::Identity();
-    if (e.norm() > 0 && n.norm() > 0) {
-      frame.col(0) = e.normalized();
-      frame.col(2) = n.normalized();
-      frame.col(1) = frame.col(2).cross(frame.col(0));
-    }
-    constraint -= frame * s.offset;
+    // b's triangle frame from the positions the access holds.
+    constraint -= triangle_frame(access.x(bt, tb[0]), access.x(bt, tb[1]), access.x(bt, tb[2])) * s.offset;
   }
   const Real stretch = constraint.norm();
   if (stretch > stretch_limit) return false;  // torn: nothing moves
@@ -585,16 +568,20 @@ Vec3 surface_position(const MassSpringSettings& settings, const MassSpringState&
   return p.bary[0] * state.positions[t[0]] + p.bary[1] * state.positions[t[1]] + p.bary[2] * state.positions[t[2]];
 }
 
-Mat3 surface_frame(const MassSpringSettings& settings, const MassSpringState& state, const SurfacePoint& p) {
-  const Triangle& t = settings.triangles[p.triangle];
-  const Vec3 e = state.positions[t[1]] - state.positions[t[0]];
-  const Vec3 n = e.cross(state.positions[t[2]] - state.positions[t[0]]);
+Mat3 triangle_frame(const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 e = b - a;
+  const Vec3 n = e.cross(c - a);
   Mat3 frame = Mat3::Identity();
   if (!(e.norm() > 0) || !(n.norm() > 0)) return frame;
   frame.col(0) = e.normalized();
   frame.col(2) = n.normalized();
   frame.col(1) = frame.col(2).cross(frame.col(0));
   return frame;
+}
+
+Mat3 surface_frame(const MassSpringSettings& settings, const MassSpringState& state, const SurfacePoint& p) {
+  const Triangle& t = settings.triangles[p.triangle];
+  return triangle_frame(state.positions[t[0]], state.positions[t[1]], state.positions[t[2]]);
 }
 
 }  // namespace trocar

@@ -209,8 +209,11 @@ class TissueContactSolver {
 /// The world position of a surface point.
 Vec3 surface_position(const MassSpringSettings& settings, const MassSpringState& state, const SurfacePoint& p);
 
-/// p's triangle's orthonormal frame as it is now: columns the first edge's direction, the normal
-/// × that edge, and the unit normal as wound (the identity for a degenerate triangle).
+/// The orthonormal frame of triangle abc: columns the first edge's direction (b − a), the
+/// normal × that edge, and the unit normal as wound (the identity for a degenerate triangle).
+Mat3 triangle_frame(const Vec3& a, const Vec3& b, const Vec3& c);
+
+/// p's triangle's frame (triangle_frame) as it is now.
 Mat3 surface_frame(const MassSpringSettings& settings, const MassSpringState& state, const SurfacePoint& p);
 
 }  // namespace trocar
