@@ -10,7 +10,7 @@
 #include "sheet_scene.h"
 #include "trocar/mesh/generate.h"
 #include "trocar/scene/scene.h"
-#include "trocar/sim/sheet_boundary.h"
+#include "trocar/mesh/sheet_boundary.h"
 #include "trocar/sim/simulation.h"
 
 namespace trocar {

@@ -3,6 +3,7 @@
 /// resting on the abdominal wall without crossing it or itself, and the tacks that fix it there
 /// (docs/response.md, "Tissue against tissue"). Runs once per step after every tissue's integrator
 /// and instrument response. No allocation after warm-up (attachments up to their capacity).
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -10,6 +11,8 @@
 #include <vector>
 
 #include "trocar/core/types.h"
+#include "trocar/geometry/closest_point.h"
+#include "trocar/mesh/sheet_boundary.h"
 #include "trocar/response/triangle_grid.h"
 #include "trocar/tissue/settings.h"
 #include "trocar/tissue/state.h"
@@ -152,6 +155,10 @@ class TissueContactSolver {
     std::vector<Vec3> start;        ///< positions at begin_step
     std::vector<Vec3> lo, hi;       ///< per triangle: box over start and end, ± reach
     std::vector<Real> motion;       ///< coupled: per vertex, how far it may move this step (m)
+    SheetBoundary border;           ///< its boundary edges and their vertices (none when closed)
+    /// Per triangle, the triangle across each local edge k (corners k, k+1); UINT32_MAX on the
+    /// border or at a non-manifold edge.
+    std::vector<std::array<std::uint32_t, 3>> across;
     TriangleGrid grid;
   };
   /// A vertex near a triangle (of the same or another tissue) and the side it must stay on.
@@ -178,6 +185,13 @@ class TissueContactSolver {
   // particles: `Access` reads and moves positions and velocities (tissue_contact.cpp).
   template <typename Access>
   void project_contact(Candidate& c, Access& access);
+  /// Whether vertex p, beyond feature q of the candidate's triangle (normal n) at offset d from
+  /// it and on the far side of the triangle's plane, has crossed the surface there.
+  template <typename Access>
+  bool crossed_beyond(const Candidate& c, const TriangleClosestPoint& q, const Vec3& p, const Vec3& n, const Vec3& d,
+                      Access& access) const;
+  /// Sets body's border and its triangles' neighbours from its tissue's model.
+  void set_adjacency(Body& body);
   /// False (and nothing moved) when the attachment is stretched past `stretch_limit` (m).
   template <typename Access>
   bool project_attachment(std::size_t i, Real alpha, Real dt, Access& access, bool move_velocities,

@@ -9,7 +9,7 @@
 #include "trocar/collision/contact.h"
 #include "trocar/geometry/signed_distance.h"
 #include "trocar/response/tissue_response.h"
-#include "trocar/sim/sheet_boundary.h"
+#include "trocar/mesh/sheet_boundary.h"
 #include "trocar/sim/world.h"
 
 namespace trocar {

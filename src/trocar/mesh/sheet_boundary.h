@@ -1,8 +1,9 @@
 #pragma once
-/// The boundary of an open tissue surface (a sheet such as the peritoneum), for the tunneling
-/// metric: a point's side of a sheet is defined by the pseudonormal of its closest feature, but
-/// when that feature lies on the sheet's border the point can pass around the edge without
-/// crossing, so its side there is treated as unknown (docs/scene.md, "tunneling").
+/// The boundary of an open tissue surface (a sheet such as the peritoneum or the prosthetic mesh):
+/// a point whose closest feature lies on the sheet's border can pass around that edge without
+/// crossing the sheet, so its side there is unknown. The tunneling metric treats it so
+/// (docs/scene.md, "tunneling"), and the tissue contact keeps no side there (docs/response.md,
+/// "Tissue against tissue").
 #include <cstdint>
 #include <span>
 #include <vector>

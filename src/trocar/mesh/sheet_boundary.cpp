@@ -1,4 +1,4 @@
-#include "trocar/sim/sheet_boundary.h"
+#include "trocar/mesh/sheet_boundary.h"
 
 #include "trocar/mesh/topology.h"
 #include "trocar/mesh/tri_mesh.h"
