@@ -69,6 +69,10 @@ ExpertReference load_reference(const fs::path& expert, bool quiet) {
                    trace.unstable_at);
       continue;
     }
+    if (!trace.task.complete()) {  // a repair left halfway is not the level a trainee must reach
+      std::fprintf(stderr, "score: expert session %s left out: its task was not completed\n", f.c_str());
+      continue;
+    }
     if (!quiet) std::fprintf(stderr, "score: expert session %s\n", f.c_str());
     r.sessions.push_back(f.filename().string());
     r.metrics.push_back(std::move(metrics));

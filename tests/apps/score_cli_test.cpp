@@ -173,6 +173,29 @@ TEST_F(ScoreCli, ASessionWhoseSimulationBlewUpIsNotAssessedNorTakenAsAnExpert) {
   EXPECT_FALSE(fs::exists(path("ref.json")));
 }
 
+TEST_F(ScoreCli, AnExpertSessionThatLeftItsTaskUndoneIsNotTakenAsAnExpert) {
+  record_experts();
+  // The same press in a scene that states the hernia repair (its sac and mesh out of reach): none
+  // of its steps is done in 0.2 s.
+  std::string with_task = probe_ball(0.1);
+  with_task.insert(with_task.find("],\n \"instruments\""), R"(,
+   {"name": "sac", "mesh": {"generate": "box", "size": [0.01, 0.01, 0.01]}, "translate": [0.3, 0, 0.01],
+    "material": {"preset": "peritoneum"}},
+   {"name": "mesh", "mesh": {"generate": "sheet", "width": 0.02, "height": 0.02, "nx": 2, "ny": 2},
+    "translate": [0.3, 0.1, 0], "material": {"preset": "peritoneum"}})");
+  with_task.insert(with_task.rfind('}'), R"(, "landmarks": {"wall_point": [0, 0, 0], "wall_normal": [0, 0, 1],
+   "defect_centre": [0.3, 0, 0], "tack_cooper": [0, 0, 0], "tack_medial": [0, 0, 0], "tack_lateral": [0, 0, 0]},
+   "task": {"sac": "sac", "mesh": "mesh"})");
+  const fs::path undone = record("undone", with_task);
+  ASSERT_TRUE(fs::exists(undone));
+  fs::rename(undone, path("experts") / "undone.trec");
+  const RunResult ref = trocar_cli("score --expert " + path("experts").string() + " --write-reference " +
+                                   path("ref.json").string());
+  ASSERT_EQ(ref.exit_code, 0) << ref.output;
+  EXPECT_NE(ref.output.find("undone.trec left out: its task was not completed"), std::string::npos) << ref.output;
+  EXPECT_EQ(nlohmann::json::parse(slurp(path("ref.json")))["sessions"].size(), 3u);
+}
+
 TEST_F(ScoreCli, BadInputIsRefusedWithAClearError) {
   const fs::path rec = record("press", probe_ball(0.1));
   std::string bytes = slurp(rec);

@@ -91,8 +91,7 @@ Assessment assess(const SessionTrace& trace, const std::vector<Metric>& metrics,
     a.goals.push_back(g);
   }
   for (const TraceEvent& e : trace.events) a.errors += e.error;
-  a.task_complete = !trace.task.present ||
-                    std::all_of(trace.task.steps.begin(), trace.task.steps.end(), [](const TraceStep& s) { return s.done_at >= 0; });
+  a.task_complete = trace.task.complete();
   a.assessable = !(trace.unstable_at >= 0);
   a.pass = a.assessable && a.failed == 0 && a.errors == 0 && a.task_complete;
   return a;

@@ -3,6 +3,7 @@
 /// and shaft, the force it put on tissue, each tissue's load, and the procedure's events. Plain
 /// data: the metrics, the proficiency scoring and the report read only this, so that they are
 /// tested on synthetic traces (a line, a circle, a pause) as on a replayed session.
+#include <algorithm>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -54,6 +55,10 @@ struct TraceTask {
   int tacks = 0, fixed_tacks = 0, zone_tacks = 0, tissue_only_tacks = 0;
   Real coverage = 0;            ///< share of the region the mesh must cover
   Real sac_fraction = 0;        ///< share of the sac reduced
+  /// Every step done (true when the scene states no task).
+  bool complete() const {
+    return !present || std::all_of(steps.begin(), steps.end(), [](const TraceStep& s) { return s.done_at >= 0; });
+  }
 };
 
 /// Electrosurgery and bleeding at the end (docs/electrosurgery.md).
