@@ -136,6 +136,22 @@ TEST(Scene, SdfResponseKeys) {
             std::string::npos);
 }
 
+TEST(Scene, MotionInterpolationIsLinearOrSmooth) {
+  const auto motion = [](const std::string& interpolation) {
+    return R"({"schema": 1, "instruments": [{"mesh": {"generate": "box", "size": [0.01, 0.01, 0.1]},
+      "motion": {"interpolation": ")" + interpolation + R"(", "keyframes": [{"t": 0, "position": [0, 0, 0]},
+        {"t": 1, "position": [0, 0, 0.01]}, {"t": 2, "position": [0, 0, 0.03]}]}}]})";
+  };
+  const Scene smooth = parse_scene(motion("smooth"), "scene.json", ".");
+  EXPECT_EQ(smooth.world.instruments[0].motion.interpolation(), Interpolation::kSmooth);
+  // From rest: h01(0.5)·0.01 + h11(0.5)·1·0.015 (the tangent at 1 s, the mean of 0.01 and 0.02 m/s).
+  EXPECT_NEAR(smooth.world.instruments[0].motion.sample(0.5).pose.translation.z(), 0.005 - 0.125 * 0.015, 1e-15);
+  EXPECT_EQ(parse_scene(motion("linear"), "scene.json", ".").world.instruments[0].motion.interpolation(),
+            Interpolation::kLinear);
+  EXPECT_EQ(error_of(motion("cubic")),
+            "scene.json: instruments[0].motion.interpolation: unknown interpolation \"cubic\" (known: linear, smooth)");
+}
+
 TEST(Scene, SchemaKeyframesAndTopVertexAreChecked) {
   EXPECT_EQ(error_of(R"({"tissues": []})"), "scene.json: schema: missing (required)");
   EXPECT_EQ(error_of(R"({"schema": 2})"), "scene.json: schema: must be in [1, 1], not 2");

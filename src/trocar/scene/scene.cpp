@@ -159,7 +159,14 @@ void read_tissue(const JsonReader& t, std::size_t index, Scene& scene, const std
 }
 
 KeyframeMotion read_motion(const JsonReader& m) {
-  m.expect_keys({"keyframes"});
+  m.expect_keys({"keyframes", "interpolation"});
+  Interpolation interpolation = Interpolation::kLinear;
+  if (m.has("interpolation")) {
+    const JsonReader i = m.at("interpolation");
+    const std::string name = i.string();
+    if (name == "smooth") interpolation = Interpolation::kSmooth;
+    else if (name != "linear") i.fail("unknown interpolation \"" + name + "\" (known: linear, smooth)");
+  }
   const JsonReader list = m.at("keyframes");
   std::vector<Keyframe> keys;
   for (std::size_t i = 0; i < list.array_size(); ++i) {
@@ -180,7 +187,7 @@ KeyframeMotion read_motion(const JsonReader& m) {
     keys.push_back(key);
   }
   if (keys.empty()) list.fail("must hold at least one keyframe");
-  return KeyframeMotion(std::move(keys));
+  return KeyframeMotion(std::move(keys), interpolation);
 }
 
 DeviceSpec read_device(const JsonReader& d, const std::filesystem::path& dir) {

@@ -193,7 +193,7 @@ PenetrationRow run_penetration_point(const fs::path& file, const PenetrationVari
   scene.settings.collision_period = period;
   Real end = 0;
   for (InstrumentBody& body : scene.world.instruments) {
-    body.motion = KeyframeMotion(retime(body.motion.keyframes(), speed));
+    body.motion = KeyframeMotion(retime(body.motion.keyframes(), speed), body.motion.interpolation());
     end = std::max(end, body.motion.end_time());
   }
   const Real duration = end + 0.05;  // the motion, then 50 ms held
