@@ -10,6 +10,7 @@
 
 #include "trocar/core/types.h"
 #include "trocar/geometry/closest_point.h"
+#include "trocar/mesh/topology.h"
 
 namespace trocar {
 
@@ -19,6 +20,8 @@ class SheetBoundary {
   /// Marks the boundary edges (one triangle) and their vertices of the triangles (indices into
   /// positions; throws trocar::Error for an index out of range).
   SheetBoundary(std::span<const Vec3> positions, std::span<const Triangle> triangles);
+  /// The same from a surface's topology already built.
+  explicit SheetBoundary(const MeshTopology& topology);
 
   /// True when feature `feature` (index k) of triangle t, whose vertices are `tri`, lies on the
   /// boundary: a boundary edge, or a vertex of one. A face never does.

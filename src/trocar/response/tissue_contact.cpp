@@ -147,11 +147,11 @@ void TissueContactSolver::remodel(std::size_t t, const ContactTissue& tissue,
 
 void TissueContactSolver::set_adjacency(Body& body) {
   const MassSpringSettings& s = *tissues_[body.tissue].settings;
-  body.border = SheetBoundary(s.rest_positions, s.triangles);
   TriMesh mesh;
   mesh.positions = s.rest_positions;
   mesh.triangles = s.triangles;
   const MeshTopology topology(mesh);
+  body.border = SheetBoundary(topology);
   body.across.assign(s.triangles.size(), {kNoTriangle, kNoTriangle, kNoTriangle});
   for (std::uint32_t t = 0; t < s.triangles.size(); ++t)
     for (std::size_t k = 0; k < 3; ++k) {
