@@ -125,5 +125,29 @@ TEST(Instrument, Jaws) {
   EXPECT_EQ(tool.jaw(), 0.0);
 }
 
+// The port: a shaft along local +z turned to lie along world +x (90° about y) with its tip at
+// x = 1 cm, through a port at x = 6 cm. Beyond the port (x > 6 cm, toward the handle) is outside
+// the body, whatever the point's distance from the axis; the port lies 5 cm up the shaft.
+TEST(Instrument, ThePortSplitsInsideFromOutside) {
+  Instrument tool(make_cylinder(0.0025, 0.2, 12, true));
+  EXPECT_NEAR((tool.local_shaft() - Vec3::UnitZ()).norm(), 0, 1e-12);  // auto: tip at the origin
+  const Pose pose = Pose::from_euler_deg(Vec3(0.01, 0.002, 0.003), Vec3(0, 90, 0));
+  tool.reset_pose(pose);
+  EXPECT_FALSE(tool.has_port());
+  EXPECT_FALSE(tool.outside_body(Vec3(0.15, 0, 0)));  // no port: nothing is outside
+  EXPECT_TRUE(std::isinf(tool.port_height(pose)));
+  tool.set_port(Vec3(0.06, 0.002, 0.003));
+  ASSERT_TRUE(tool.has_port());
+  EXPECT_NEAR(tool.port_height(pose), 0.05, 1e-12);
+  EXPECT_TRUE(tool.outside_body(Vec3(0.0601, 0.03, -0.02)));
+  EXPECT_FALSE(tool.outside_body(Vec3(0.0599, 0.03, -0.02)));
+  EXPECT_FALSE(tool.outside_body(Vec3(0.0, 0.002, 0.003)));  // past the tip: inside
+  // Drawn back 2 cm, the port lies 3 cm up the shaft.
+  tool.move_to(Pose::from_euler_deg(Vec3(0.03, 0.002, 0.003), Vec3(0, 90, 0)), 1e-3);
+  EXPECT_NEAR(tool.port_height(tool.pose()), 0.03, 1e-12);
+  tool.set_port(Vec3(std::nan(""), 0, 0));  // ignored
+  EXPECT_NEAR(tool.port().x(), 0.06, 1e-15);
+}
+
 }  // namespace
 }  // namespace trocar

@@ -212,5 +212,47 @@ TEST(SolverContact, PoseInterpolationEndsAtBothPoses) {
               1e-12);
 }
 
+// The port (Instrument::set_port): a 5 mm shaft along z, z ∈ [0, 20 cm], its tip at the origin;
+// a vertex 1 mm inside it 15 cm up the shaft, under the middle of a side of the 16-gon. With the
+// port at 10 cm it lies outside the body and stays where it is, with no force on the shaft; with
+// the port at 18 cm it is inside and goes out to that side + margin, radially.
+TEST(SolverContact, NothingIsTouchedBeyondThePort) {
+  const Vec3 radial(std::cos(M_PI / 16), std::sin(M_PI / 16), 0);
+  const Vec3 inside = 0.0015 * radial + Vec3(0, 0, 0.15);
+  for (const Real port : {0.10, 0.18}) {
+    Rig rig(make_cylinder(0.0025, 0.2, 16, true), {inside});
+    rig.tool.set_port(Vec3(0.01, 0.01, port));  // off the axis: only its height along the shaft counts
+    rig.reset();
+    const Vec3 start = at(rig.x[0]);  // inside, in the particle's float
+    rig.step();
+    const Vec3 x = at(rig.x[0]);
+    if (port < 0.15) {
+      EXPECT_EQ((x - start).norm(), 0) << "port at " << port;
+      EXPECT_EQ(rig.contacts.force(0).norm(), 0);
+      EXPECT_EQ(rig.contacts.contacts(), 0u);
+    } else {
+      // The side's distance from the axis (the 16-gon's apothem) is 2.5 cos(π/16) mm.
+      EXPECT_NEAR(x.dot(radial), 0.0025 * std::cos(M_PI / 16) + rig.settings.contact_margin, 1e-6);
+      EXPECT_NEAR((x - x.dot(radial) * radial - Vec3(0, 0, 0.15)).norm(), 0, 1e-6);
+      EXPECT_LT(rig.contacts.force(0).dot(radial), 0);  // the vertex pushed out pushes the shaft back
+      EXPECT_EQ(rig.contacts.contacts(), 1u);
+    }
+  }
+}
+
+// And a face under the shaft: the wire of WireUnderACoarseTriangle (0.4 mm into the face, its
+// tip end at x = −2 cm) pushes the face down only while its samples over it are inside the body.
+// With the port at x = −3 cm, the whole wire lies beyond it and the face is left alone.
+TEST(SolverContact, NoFaceIsPushedBeyondThePort) {
+  Rig inside = wire_rig(0.001);
+  inside.tool.set_port(Vec3(0.03, 0, 0));
+  inside.step();
+  EXPECT_LT(face_height(inside, 0, 0), -0.0003);
+  Rig outside = wire_rig(0.001);
+  outside.tool.set_port(Vec3(-0.03, 0, 0));
+  outside.step();
+  EXPECT_EQ(face_height(outside, 0, 0), 0);
+}
+
 }  // namespace
 }  // namespace trocar

@@ -207,5 +207,34 @@ TEST(Scene, TackerGeneratorBuildsTheFiveMillimetreInstrument) {
     "instruments": [{"mesh": {"generate": "tacker", "bevel": 0.01}}]})").find("tacker bevel"), std::string::npos);
 }
 
+// "ports": a port's point, given or a landmark's, goes to every instrument naming that port; an
+// unknown landmark, a port no instrument enters through and a bad value are errors naming the key.
+TEST(Scene, PortsPlaceWhereTheShaftsEnterTheBody) {
+  const std::string two = R"({"schema": 1,
+    "tissues": [{"name": "ball", "mesh": {"generate": "icosphere", "radius": 0.03, "subdivisions": 1}}],
+    "instruments": [{"name": "a", "port": "right", "mesh": {"generate": "cylinder", "radius": 0.002, "length": 0.05}},
+                    {"name": "b", "port": "right", "mesh": {"generate": "cylinder", "radius": 0.002, "length": 0.05}},
+                    {"name": "c", "mesh": {"generate": "cylinder", "radius": 0.002, "length": 0.05}}],
+    "landmarks": {"port_right": [0.07, 0.13, 0.05]},)";
+  const Scene scene = parse_scene(two + R"( "ports": {"right": "port_right"}})", "scene.json", ".");
+  for (const std::size_t i : {0u, 1u}) {
+    ASSERT_TRUE(scene.world.instruments[i].instrument.has_port());
+    EXPECT_EQ((scene.world.instruments[i].instrument.port() - Vec3(0.07, 0.13, 0.05)).norm(), 0);
+  }
+  EXPECT_FALSE(scene.world.instruments[2].instrument.has_port());
+  const Scene given = parse_scene(two + R"( "ports": {"right": [0.01, 0.02, 0.03]}})", "scene.json", ".");
+  EXPECT_EQ((given.world.instruments[1].instrument.port() - Vec3(0.01, 0.02, 0.03)).norm(), 0);
+  const Scene none = parse_scene(two + R"( "name": "n"})", "scene.json", ".");
+  EXPECT_FALSE(none.world.instruments[0].instrument.has_port());
+
+  EXPECT_NE(error_of(two + R"( "ports": {"right": "port_left"}})").find("ports.right: the scene has no landmark \"port_left\""),
+            std::string::npos)
+      << error_of(two + R"( "ports": {"right": "port_left"}})");
+  EXPECT_NE(error_of(two + R"( "ports": {"left": [0, 0, 0]}})").find("no instrument enters through port \"left\""),
+            std::string::npos);
+  EXPECT_NE(error_of(two + R"( "ports": {"right": [0, 0]}})").find("ports.right"), std::string::npos);
+  EXPECT_NE(error_of(two + R"( "ports": [1, 2, 3]})").find("ports"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace trocar

@@ -7,17 +7,17 @@
 
 namespace trocar {
 
+Vec3 shaft_axis(const Obb& box, const Vec3& shaft_direction) {
+  const Real len = shaft_direction.norm();
+  if (len > 0 && std::isfinite(len)) return shaft_direction / len;
+  // auto: long axis a_0, signed so that the tip (the end nearer the local origin) is behind.
+  const Vec3 a0 = box.axes.col(0);
+  return a0.dot(Vec3::Zero() - box.center) <= 0 ? a0 : Vec3(-a0);
+}
+
 std::uint32_t find_top_vertex(std::span<const Vec3> points, const Obb& box, const Vec3& shaft_direction) {
   if (points.empty()) return 0;
-  Vec3 u = shaft_direction;
-  const Real len = u.norm();
-  if (len > 0 && std::isfinite(len)) {
-    u /= len;
-  } else {
-    // auto: long axis a_0, signed so that the tip (the end nearer the local origin) is behind.
-    const Vec3 a0 = box.axes.col(0);
-    u = a0.dot(Vec3::Zero() - box.center) <= 0 ? a0 : Vec3(-a0);
-  }
+  const Vec3 u = shaft_axis(box, shaft_direction);
   Real best = -std::numeric_limits<Real>::infinity();
   for (const Vec3& p : points) best = std::max(best, u.dot(p));
   // Ties within 1e-9 of the box's size: nearest to the axis line c + s·u, then lowest index.
@@ -56,6 +56,19 @@ Instrument::Instrument(TriMesh local_mesh, const Vec3& shaft_direction)
   local_obb_ = Obb::fit_pca(mesh_.positions);
   world_obb_ = local_obb_;
   top_ = find_top_vertex(mesh_.positions, local_obb_, shaft_direction);
+  shaft_ = shaft_axis(local_obb_, shaft_direction);
+  if (!shaft_.allFinite() || !(shaft_.squaredNorm() > 0)) shaft_ = Vec3::UnitZ();  // no mesh: a zero box
+}
+
+void Instrument::set_port(const Vec3& world_point) {
+  if (!world_point.allFinite()) return;
+  port_ = world_point;
+  has_port_ = true;
+}
+
+Real Instrument::port_height(const Pose& pose) const {
+  if (!has_port_) return std::numeric_limits<Real>::infinity();
+  return shaft_.dot(pose.rotation.conjugate() * (port_ - pose.translation));
 }
 
 void Instrument::set_top_vertex(std::uint32_t vertex) {

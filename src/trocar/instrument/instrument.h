@@ -57,6 +57,25 @@ class Instrument {
   /// Overrides the top vertex (an index < vertex count; out-of-range indices are ignored).
   void set_top_vertex(std::uint32_t vertex);
 
+  /// The shaft's direction in the local frame, unit, tip → handle: the constructor's
+  /// `shaft_direction`, or the `auto` rule's (see the class comment).
+  const Vec3& local_shaft() const { return shaft_; }
+  /// The trocar port the shaft enters the body through (world, m; scene "ports"). What lies
+  /// beyond it along the shaft, toward the handle, is outside the body and touches no tissue: a
+  /// real shaft is sealed in its cannula there, so nothing it catches inside can be drawn out
+  /// with it. A non-finite point is ignored.
+  void set_port(const Vec3& world_point);
+  bool has_port() const { return has_port_; }
+  const Vec3& port() const { return port_; }
+  /// Where the port lies along the local shaft axis at `pose`: a local point q is outside the
+  /// body when local_shaft()·q > port_height(pose), i.e. (R u)·(x − port) > 0 in the world.
+  /// +∞ without a port (nothing is outside).
+  Real port_height(const Pose& pose) const;
+  /// True when the world point x lies beyond the port at the current pose (outside the body).
+  bool outside_body(const Vec3& x) const {
+    return has_port_ && (pose_.rotation * shaft_).dot(x - port_) > 0;
+  }
+
   /// Places the instrument at `pose` with zero velocity (a teleport; previous pose = pose).
   void reset_pose(const Pose& pose);
   /// Moves to `pose`, `dt` seconds after the current one: previous ← current, current ← pose,
@@ -107,7 +126,15 @@ class Instrument {
   Vec3 angular_velocity_ = Vec3::Zero();  ///< rad/s
   Real jaw_ = 0;                       ///< closure 0..1
   std::uint32_t top_ = 0;              ///< top vertex index
+  Vec3 shaft_ = Vec3::UnitZ();         ///< local, unit, tip → handle
+  Vec3 port_ = Vec3::Zero();           ///< world (m)
+  bool has_port_ = false;
 };
+
+/// The unit shaft direction (tip → handle) for `shaft_direction` and box `box`: the direction
+/// normalised, or for zero (auto) the box's long axis signed so that the local origin is at the
+/// tip end (see Instrument's class comment).
+Vec3 shaft_axis(const Obb& box, const Vec3& shaft_direction);
 
 /// The top vertex of `points` for shaft direction u (tip → handle) and box `box` (see
 /// Instrument's class comment); u = 0 means auto. Returns 0 for no points.

@@ -81,7 +81,9 @@ ProjectionStats ContactProjector::project(const Instrument& instrument, const In
   const Aabb box = instrument.world_obb().bounds().inflated(std::max(cull_, 2 * std::max(mean_edge_, Real{0})));
   candidates_.clear();
   for (std::uint32_t v = 0; v < n; ++v)
-    if (tissue.fixed[v] == 0 && box.contains(tissue.positions[v]) && !grasp.is_grasped(v)) candidates_.push_back(v);
+    if (tissue.fixed[v] == 0 && box.contains(tissue.positions[v]) && !grasp.is_grasped(v) &&
+        !instrument.outside_body(tissue.positions[v]))  // beyond the port: outside the body
+      candidates_.push_back(v);
   stats.candidates = static_cast<std::uint32_t>(candidates_.size());
   if (candidates_.empty() && contacts.empty()) return stats;
 
@@ -212,7 +214,7 @@ void ContactProjector::place_samples(const Instrument& instrument, const Instrum
   if (!near.is_empty())
     for (std::uint32_t k = 0; k < samples.size(); ++k) {
       const Vec3 p = t + r * samples[k];
-      if (!near.contains(p)) continue;
+      if (!near.contains(p) || instrument.outside_body(p)) continue;
       world_samples_[k] = p;
       active.expand(p);
       active_samples_.push_back(k);

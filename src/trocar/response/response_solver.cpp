@@ -68,6 +68,10 @@ ResponseStats ResponseSolver::apply(std::span<const Contact> contacts, std::uint
     const Triangle& ta = itri[c.triangle_a];
     const Triangle& tb = tissue.triangles[c.triangle_b];
     if (tb[0] >= nv || tb[1] >= nv || tb[2] >= nv) continue;
+    // A face wholly beyond the port is outside the body (Instrument::set_port): untouched.
+    if (instrument.outside_body(tissue.positions[tb[0]]) && instrument.outside_body(tissue.positions[tb[1]]) &&
+        instrument.outside_body(tissue.positions[tb[2]]))
+      continue;
 
     // Step 10: closed jaws hold what they touch; held triangles get no penalty.
     if (closed && instrument.is_jaw_triangle(c.triangle_a)) {

@@ -157,6 +157,7 @@ void InstrumentContacts::begin_step(const XpbdView& view, int substeps) {
     p.from = p.in.instrument->previous_pose();
     p.to = p.in.instrument->pose();
     p.depth_limit = p.in.thickness + (p.to.translation - p.from.translation).norm() + settings_.contact_margin;
+    p.port_limit = std::max(p.in.instrument->port_height(p.from), p.in.instrument->port_height(p.to));
     find_candidates(p, view);
     update_grasp(p, view);
     find_pairs(p, view);
@@ -298,6 +299,9 @@ void InstrumentContacts::add_pair(PerInstrument& p, std::uint32_t sample, std::u
   }
   const Vec3& a0 = p.sample_from[sample];
   const Vec3& a1 = p.sample_to[sample];
+  // The shaft beyond its port is outside the body (Instrument::set_port): a sample there at both
+  // ends of the step pushes no face.
+  if (p.in.instrument->local_shaft().dot(samples[sample]) > p.port_limit) return;
   Aabb path;
   path.expand(a0);
   path.expand(a1);
@@ -427,11 +431,16 @@ void InstrumentContacts::project_vertices(PerInstrument& p, const XpbdView& view
   const Real share = inv_h2 / substeps_;
   const Mat3 r = pose.rotation_matrix();
   const std::span<const Triangle> itri = p.in.instrument->triangles();
+  // Beyond the port the shaft is outside the body (Instrument::set_port): a vertex there is not
+  // touched, so a shaft backing out lets go of what it carried at the port.
+  const Vec3& shaft = p.in.instrument->local_shaft();
+  const Real port = p.in.instrument->port_height(pose);
   for (const std::uint32_t v : p.candidates) {
     XpbdParticle& particle = view.x[v];
     if (particle.w == 0.f) continue;
     const Vec3 x = position(particle);
     const Vec3 q = r.transpose() * (x - pose.translation);
+    if (shaft.dot(q) > port) continue;
     if (p.in.field->lower_bound(q) >= margin) continue;
     const SignedDistanceResult res = p.in.field->query(q, p.hint[v]);
     p.hint[v] = res.triangle;

@@ -60,6 +60,8 @@ struct HeldVertex {
 ///      position based dynamics", SCA 2020, §3.5; Macklin et al. 2014 §6.1): the vertex's slip
 ///      over the substep relative to the instrument, tangential part t, is undone while
 ///      |t| ≤ μs·|Δx_n|, else shortened by μk·|Δx_n|.
+///  Neither acts beyond the instrument's port (Instrument::set_port): a vertex beyond it at P_s,
+///  or a sample beyond it at both poses, is outside the body.
 ///  Grasped vertices are placed at P_s(local) first (an attachment of zero compliance, after the
 ///  tissue's constraints moved them; its correction is their pull on the jaws).
 /// Force on the instrument: −Σ m Δx / h² over the corrections of all substeps, divided by n
@@ -132,6 +134,9 @@ class InstrumentContacts final : public XpbdContacts {
     Pose from, to;                              ///< poses at the start and end of the step
     Vec3 force = Vec3::Zero(), torque = Vec3::Zero();
     Real depth_limit = 0;
+    /// Samples further along the shaft than this (local, m) are beyond the port at both poses of
+    /// the step: outside the body (+∞ without a port).
+    Real port_limit = 0;
     // The instrument's samples in a uniform grid of its own frame (built once: it is rigid).
     Aabb grid_box;
     Real grid_cell = 0;

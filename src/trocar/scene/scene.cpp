@@ -267,6 +267,31 @@ void read_instrument(const JsonReader& r, std::size_t index, Scene& scene, const
   scene.devices.push_back(std::move(device));
 }
 
+/// "ports": {name: [x, y, z] or a landmark's name}: where each named port enters the body
+/// (docs/scene.md "Ports"). Every instrument naming that port takes the point (Instrument::set_port).
+void read_ports(const JsonReader& ports, Scene& scene) {
+  if (!ports.is_object()) ports.fail("must be an object of port name: [x, y, z] or a landmark's name");
+  for (const auto& item : ports.value().items()) {
+    const JsonReader at = ports.at(item.key());
+    Vec3 point;
+    if (at.is_string()) {
+      const auto found = scene.landmarks.find(at.string());
+      if (found == scene.landmarks.end())
+        at.fail("the scene has no landmark \"" + at.string() + "\" (give it in \"landmarks\" or with the anatomy)");
+      point = found->second;
+    } else {
+      point = at.vec3();
+    }
+    bool named = false;
+    for (InstrumentBody& body : scene.world.instruments)
+      if (body.port == item.key()) {
+        body.instrument.set_port(point);
+        named = true;
+      }
+    if (!named) at.fail("no instrument enters through port \"" + item.key() + "\" (an instrument's \"port\")");
+  }
+}
+
 void read_rigid(const JsonReader& r, std::size_t index, Scene& scene, const std::filesystem::path& dir) {
   r.expect_keys({"name", "mesh", "scale", "translate", "rotate_deg", "repair", "appearance"});
   scene.world.add_rigid(name_or(r, "rigid", index), placed_mesh(r, dir));
@@ -396,7 +421,7 @@ Scene parse_scene(std::string_view text, const std::string& file, const std::fil
   const JsonReader root(doc, file);
   root.expect_keys({"schema", "name", "timestep", "duration", "gravity", "tissues", "instruments", "rigids",
                     "collision", "response", "camera", "events", "anatomy", "tissue_contacts", "zones",
-                    "landmarks", "task", "tissue_coupling"});
+                    "landmarks", "task", "tissue_coupling", "ports"});
   Scene scene;
   root.at("schema").integer(kSceneSchema, kSceneSchema);
   scene.name = root.string_or("name", std::filesystem::path(file).stem().string());
@@ -434,7 +459,8 @@ Scene parse_scene(std::string_view text, const std::string& file, const std::fil
     }
     scene.devices[a.instrument].presses.push_back({a.t, a.action << 1, until});
   }
-  read_task_keys(root, scene);  // last: the task's names are checked against everything above
+  read_task_keys(root, scene);  // the task's names are checked against everything above
+  if (root.has("ports")) read_ports(root.at("ports"), scene);  // after the landmarks it may name
   return scene;
 }
 

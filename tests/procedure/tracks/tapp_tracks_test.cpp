@@ -30,7 +30,27 @@ struct Played {
   Real max_kinetic = 0;           ///< J, the whole scene
   Real step_median_ms = 0;        ///< the whole step (StageTimings::step, µs → ms)
   bool stable = true;
+  /// The farthest any tissue vertex within 1 cm of a shaft's axis lay beyond its port (m): outside
+  /// the body, where nothing may carry it (docs/response.md, "The port").
+  Real farthest_out = 0;
 };
+
+/// Of the tissue vertices within 1 cm of a shaft in the body, the farthest beyond its port (m).
+Real farthest_beyond_a_port(const Simulation& sim) {
+  Real out = 0;
+  for (const InstrumentBody& body : sim.world().instruments) {
+    const Instrument& tool = body.instrument;
+    if (!tool.has_port() || (tool.pose().translation - tool.port()).norm() > 0.5) continue;  // parked
+    const Vec3 axis = tool.pose().rotation * tool.local_shaft();
+    for (const auto& tissue : sim.world().tissues)
+      for (const Vec3& x : tissue->state.positions) {
+        const Vec3 r = x - tool.port();
+        const Real along = axis.dot(r);
+        if (along > out && (r - along * axis).norm() < 0.01) out = along;
+      }
+  }
+  return out;
+}
 
 Played play(const std::string& file) {
   Scene scene = load_scene(kScenes + "/" + file);
@@ -48,6 +68,7 @@ Played play(const std::string& file) {
     procedure.update(sim);
     out.max_kinetic = std::max(out.max_kinetic, m.kinetic_energy);
     step_times.push_back(m.timings.step);
+    if (m.step_index % 10 == 0) out.farthest_out = std::max(out.farthest_out, farthest_beyond_a_port(sim));
     actions.play_before(sim.time() + scene.timestep,
                         [&](std::size_t i, std::uint32_t bit) { apply_actions(sim, i, bit, &procedure); });
   });
@@ -58,8 +79,8 @@ Played play(const std::string& file) {
   for (const AttachmentState& a : sim.attachments()) out.holding_tacks += a.holding ? 1 : 0;
   std::nth_element(step_times.begin(), step_times.begin() + step_times.size() / 2, step_times.end());
   out.step_median_ms = step_times.empty() ? 0 : 1e-3 * step_times[step_times.size() / 2];
-  std::printf("%s: %zu steps, stable %d, kinetic energy peak %.2g J, step median %.1f ms\n", file.c_str(), r.steps,
-              out.stable ? 1 : 0, out.max_kinetic, out.step_median_ms);
+  std::printf("%s: %zu steps, stable %d, kinetic energy peak %.2g J, step median %.1f ms, tissue %.1f mm beyond a port\n",
+              file.c_str(), r.steps, out.stable ? 1 : 0, out.max_kinetic, out.step_median_ms, 1e3 * out.farthest_out);
   for (const TaskStepView& s : out.view.steps)
     std::printf("  %-13s %-8s at %6.3f s  %s\n", s.name.c_str(), to_string(s.state), s.done_at, s.detail.c_str());
   for (const TaskEvent& e : out.events)
@@ -86,6 +107,8 @@ TEST(TappTracks, TheExpertCompletesEveryStepWithoutAnError) {
   EXPECT_GE(fixed, 4u);
   EXPECT_EQ(p.holding_tacks, fixed);  // every tack still holds at the end
   EXPECT_LT(p.max_kinetic, 0.05);     // no blow-up (they reach 1–7 J)
+  // Nothing carried out along a shaft (without the ports, the sac's vertices 8–10 cm out).
+  EXPECT_LT(p.farthest_out, 0.005);
 }
 
 TEST(TappTracks, TheNoviceMakesExactlyItsKnownErrors) {
