@@ -9,6 +9,7 @@
 
 #include "trocar/geometry/barycentric.h"
 #include "trocar/geometry/closest_point.h"
+#include "trocar/geometry/segment_triangle.h"
 #include "trocar/mesh/topology.h"
 
 namespace trocar {
@@ -19,6 +20,9 @@ constexpr std::uint32_t kNoTriangle = std::numeric_limits<std::uint32_t>::max();
 /// Gauss–Seidel sweeps over the contacts and attachments per step: the mesh-on-wall test
 /// (tests/response/tissue_contact_test.cpp) meets its 0.5 mm p99 with 4; more cost linearly.
 constexpr int kIterations = 4;
+
+/// Rounds of untangle() before it puts the whole tissue back.
+constexpr int kMaxRewinds = 8;
 
 /// Coupled: a tack stretched further than its own length (m) has come out (helical titanium tacks
 /// are about 4 mm long; assumed).
@@ -39,6 +43,21 @@ Real mean_triangle_extent(const MassSpringSettings& s) {
     sum += (component_max(component_max(a, b), c) - component_min(component_min(a, b), c)).maxCoeff();
   }
   return std::max(sum / static_cast<Real>(s.triangles.size()), 1e-6);
+}
+
+/// Which side of segment ij's line segment kl's line lies on, as the sign of (x_j − x_i) × (x_l −
+/// x_k) · (x_k − x_i), where the segments' closest points `q` lie strictly inside both and the
+/// segments are not near parallel (the angle between them over about 3°); else 0 (the sides of
+/// two lines say nothing about crossing beyond the segments' ends, and parallel lines have none).
+Real edge_side(const Vec3& xi, const Vec3& xj, const Vec3& xk, const Vec3& xl, const SegmentSegmentClosest& q) {
+  constexpr Real kInside = 1e-3, kSinParallel = 0.05;
+  if (!(q.s > kInside && q.s < 1 - kInside && q.t > kInside && q.t < 1 - kInside)) return 0;
+  const Vec3 e = xj - xi, f = xl - xk;
+  const Vec3 n = e.cross(f);
+  const Real nn = n.norm();
+  if (!(nn > kSinParallel * e.norm() * f.norm())) return 0;
+  const Real g = n.dot(xk - xi);
+  return g > 0 ? 1 : g < 0 ? -1 : 0;
 }
 
 /// Positions and velocities as the tissues' states hold them (after the integrators).
@@ -88,6 +107,7 @@ TissueContactSolver::TissueContactSolver(std::vector<ContactTissue> tissues, std
       }
       Body& body = bodies_[static_cast<std::size_t>(body_of_[t])];
       body.reach = std::max(body.reach, p.thickness + (p.adhesion > 0 ? p.adhesion_range : 0));
+      body.self = body.self || p.a == p.b;
     }
   std::size_t vertices = 0;
   for (Body& body : bodies_) {
@@ -102,6 +122,7 @@ TissueContactSolver::TissueContactSolver(std::vector<ContactTissue> tissues, std
     vertices += s.vertex_count();
   }
   candidates_.reserve(4 * vertices);
+  edge_candidates_.reserve(4 * self_edges());
   coupled_.assign(tissues_.size(), nullptr);
   coupled_x_.resize(tissues_.size());
   coupled_v_.resize(tissues_.size());
@@ -143,6 +164,15 @@ void TissueContactSolver::remodel(std::size_t t, const ContactTissue& tissue,
   std::size_t vertices = 0;
   for (const Body& b : bodies_) vertices += tissues_[b.tissue].settings->vertex_count();
   candidates_.reserve(4 * vertices);
+  edge_candidates_.reserve(4 * self_edges());
+}
+
+std::size_t TissueContactSolver::self_edges() const {
+  std::size_t n = 0;
+  for (const TissueContactPair& p : pairs_)
+    if (p.a == p.b && p.a < tissues_.size() && body_of_[p.a] >= 0)
+      n += bodies_[static_cast<std::size_t>(body_of_[p.a])].edges.size();
+  return n;
 }
 
 void TissueContactSolver::set_adjacency(Body& body) {
@@ -153,6 +183,12 @@ void TissueContactSolver::set_adjacency(Body& body) {
   const MeshTopology topology(mesh);
   body.border = SheetBoundary(topology);
   body.across.assign(s.triangles.size(), {kNoTriangle, kNoTriangle, kNoTriangle});
+  body.edges.clear();
+  for (const Edge& e : topology.edges()) body.edges.push_back({e.v0, e.v1});
+  body.edge_seen.assign(body.edges.size(), 0);
+  body.rewind.assign(s.vertex_count(), 0);
+  body.triangle_edges.resize(s.triangles.size());
+  for (std::uint32_t t = 0; t < s.triangles.size(); ++t) body.triangle_edges[t] = topology.triangle_edges(t);
   for (std::uint32_t t = 0; t < s.triangles.size(); ++t)
     for (std::size_t k = 0; k < 3; ++k) {
       const std::uint32_t e = topology.triangle_edges(t)[k];
@@ -225,6 +261,124 @@ void TissueContactSolver::gather(const TissueContactPair& pair, Body& vb, Body& 
       candidates_.push_back(c_);
     });
   }
+}
+
+void TissueContactSolver::gather_edges(const TissueContactPair& pair, Body& body, bool predicted) {
+  const MassSpringSettings& s = *tissues_[body.tissue].settings;
+  const std::vector<Vec3>& x = tissues_[body.tissue].state->positions;
+  const std::vector<Vec3>& x0 = body.start;
+  const auto motion = [&](std::uint32_t v) { return predicted ? body.motion[v] : (x[v] - x0[v]).norm(); };
+  const auto fixed = [&](std::uint32_t v) { return s.inverse_masses[v] == 0; };
+  for (std::uint32_t e = 0; e < body.edges.size(); ++e) {
+    const std::uint32_t i = body.edges[e][0], j = body.edges[e][1];
+    const Real edge_motion = std::max(motion(i), motion(j));
+    Vec3 lo = component_min(x0[i], x0[j]), hi = component_max(x0[i], x0[j]);
+    if (predicted) {
+      lo.array() -= edge_motion;
+      hi.array() += edge_motion;
+    } else {
+      lo = component_min(lo, component_min(x[i], x[j]));
+      hi = component_max(hi, component_max(x[i], x[j]));
+    }
+    const std::uint64_t round = ++edge_round_;
+    body.grid.query(lo, hi, [&](std::uint32_t t) {
+      if ((lo.array() > body.hi[t].array()).any() || (hi.array() < body.lo[t].array()).any()) return;
+      for (const std::uint32_t f : body.triangle_edges[t]) {
+        // Each unordered pair once (f > e), each f once per e.
+        if (f == MeshTopology::kNone || f <= e || body.edge_seen[f] == round) continue;
+        body.edge_seen[f] = round;
+        const std::uint32_t k = body.edges[f][0], l = body.edges[f][1];
+        if (k == i || k == j || l == i || l == j) continue;  // they share a vertex: never apart
+        if (fixed(i) && fixed(j) && fixed(k) && fixed(l)) continue;
+        const Real edge_reach = pair.thickness + edge_motion + std::max(motion(k), motion(l));
+        const SegmentSegmentClosest start = closest_points_segment_segment(x0[i], x0[j], x0[k], x0[l]);
+        if (start.distance_squared > edge_reach * edge_reach) continue;  // cannot come within the gap
+        EdgeCandidate c{};
+        c.tissue = body.tissue;
+        c.e = e;
+        c.f = f;
+        c.sigma = edge_side(x0[i], x0[j], x0[k], x0[l], start);
+        c.thickness = pair.thickness;
+        c.friction = pair.friction;
+        c.reach = edge_reach + 0.5 * pair.thickness;
+        c.direction = Vec3::Zero();
+        edge_candidates_.push_back(c);
+      }
+    });
+  }
+}
+
+template <typename Access>
+void TissueContactSolver::project_edges(EdgeCandidate& c, Access& access) {
+  const Body& body = bodies_[static_cast<std::size_t>(body_of_[c.tissue])];
+  const MassSpringSettings& s = *tissues_[c.tissue].settings;
+  const std::uint32_t i = body.edges[c.e][0], j = body.edges[c.e][1], k = body.edges[c.f][0], l = body.edges[c.f][1];
+  const Vec3 xi = access.x(c.tissue, i), xj = access.x(c.tissue, j), xk = access.x(c.tissue, k),
+             xl = access.x(c.tissue, l);
+  const SegmentSegmentClosest q = closest_points_segment_segment(xi, xj, xk, xl);
+  const Vec3 d = q.on_q - q.on_p;
+  Real distance = std::sqrt(q.distance_squared);
+  Vec3 direction;
+  const Real now = edge_side(xi, xj, xk, xl, q);
+  if (c.sigma != 0 && now != 0 && now != c.sigma) {
+    // Crossed: f's segment went through e's within the step (both closest points inside both
+    // segments, the lines' sides swapped). Back to the side it started on, along e × f.
+    direction = c.sigma * (xj - xi).cross(xl - xk).normalized();
+    distance = direction.dot(d);  // ≤ 0: how far past
+  } else {
+    if (!(distance > 0)) return;  // touching with no direction to part them: the faces' contacts will
+    direction = d / distance;
+  }
+  const Real violation = c.thickness - distance;
+  if (violation <= 0) return;
+  Real reach = c.reach;
+  if (coupled_[c.tissue] != nullptr) {  // the motion so far, as project_contact
+    reach = 1.5 * c.thickness +
+            std::max((xi - body.start[i]).norm(), (xj - body.start[j]).norm()) +
+            std::max((xk - body.start[k]).norm(), (xl - body.start[l]).norm());
+  }
+  if (violation > reach) return;
+  const Real wi = s.inverse_masses[i], wj = s.inverse_masses[j], wk = s.inverse_masses[k], wl = s.inverse_masses[l];
+  const Real a = 1 - q.s, b = q.s, g = 1 - q.t, h = q.t;
+  const Real w = a * a * wi + b * b * wj + g * g * wk + h * h * wl;
+  if (!(w > 0)) return;
+  const Real lambda = violation / w;
+  // e's side moves against the direction, f's along it, each in proportion to its weight on the
+  // closest point and its inverse mass (the four vertices are distinct).
+  access.move(c.tissue, i, -a * wi * lambda * direction);
+  access.move(c.tissue, j, -b * wj * lambda * direction);
+  access.move(c.tissue, k, g * wk * lambda * direction);
+  access.move(c.tissue, l, h * wl * lambda * direction);
+  c.direction = direction;
+  c.s = q.s;
+  c.t = q.t;
+  c.touching = true;
+  c.corrected = true;
+}
+
+template <typename Access>
+void TissueContactSolver::edge_velocities(const EdgeCandidate& c, Real /*dt*/, Access& access) {
+  const Body& body = bodies_[static_cast<std::size_t>(body_of_[c.tissue])];
+  const MassSpringSettings& s = *tissues_[c.tissue].settings;
+  const std::uint32_t i = body.edges[c.e][0], j = body.edges[c.e][1], k = body.edges[c.f][0], l = body.edges[c.f][1];
+  const Real wi = s.inverse_masses[i], wj = s.inverse_masses[j], wk = s.inverse_masses[k], wl = s.inverse_masses[l];
+  const Real a = 1 - c.s, b = c.s, g = 1 - c.t, h = c.t;
+  const Real w = a * a * wi + b * b * wj + g * g * wk + h * h * wl;
+  if (!(w > 0)) return;
+  const Vec3 relative = g * access.u(c.tissue, k) + h * access.u(c.tissue, l) - a * access.u(c.tissue, i) -
+                        b * access.u(c.tissue, j);
+  const Real normal = c.direction.dot(relative);  // > 0: separating
+  if (normal >= 0) return;
+  // Inelastic, with Coulomb friction up to μ times the normal change (as contact_velocities).
+  const Vec3 tangential = relative - normal * c.direction;
+  const Real slip = tangential.norm();
+  Vec3 change = -normal * c.direction;
+  if (slip > 0) change -= std::min(slip, c.friction * -normal) * (tangential / slip);
+  const Vec3 impulse = change / w;
+  access.push(c.tissue, i, -a * wi * impulse);
+  access.push(c.tissue, j, -b * wj * impulse);
+  access.push(c.tissue, k, g * wk * impulse);
+  access.push(c.tissue, l, h * wl * impulse);
 }
 
 template <typename Access>
@@ -438,6 +592,7 @@ void TissueContactSolver::solve(Real dt, Real time) {
   corrected_ = 0;
   if (bodies_.empty() && attachments_.empty()) return;  // nothing to do: no work at all
   candidates_.clear();
+  edge_candidates_.clear();
   for (Body& body : bodies_) {
     const MassSpringSettings& s = *tissues_[body.tissue].settings;
     const std::vector<Vec3>& x = tissues_[body.tissue].state->positions;
@@ -460,6 +615,7 @@ void TissueContactSolver::solve(Real dt, Real time) {
     Body& b = bodies_[static_cast<std::size_t>(body_of_[pair.b])];
     gather(pair, a, b, pair.a == pair.b, false);
     if (pair.a != pair.b) gather(pair, b, a, false, false);
+    if (pair.a == pair.b) gather_edges(pair, a, false);
   }
 
   StateAccess access{tissues_};
@@ -467,6 +623,7 @@ void TissueContactSolver::solve(Real dt, Real time) {
   for (std::size_t i = 0; i < attachments_.size(); ++i) lambda_[i] = Vec3::Zero();
   for (int iteration = 0; iteration < kIterations; ++iteration) {
     for (Candidate& c : candidates_) project_contact(c, access);
+    for (EdgeCandidate& c : edge_candidates_) project_edges(c, access);
     for (std::size_t i = 0; i < attachments_.size(); ++i)
       if (attachments_[i].holding)
         project_attachment(i, attachments_[i].spec.compliance * alpha_scale, dt, access, true,
@@ -476,6 +633,10 @@ void TissueContactSolver::solve(Real dt, Real time) {
     if (c.touching || c.adhered) contact_velocities(c, dt, access);
     if (c.corrected) ++corrected_;
   }
+  for (const EdgeCandidate& c : edge_candidates_) {
+    if (c.touching) edge_velocities(c, dt, access);
+    if (c.corrected) ++corrected_;
+  }
   for (std::size_t i = 0; i < attachments_.size(); ++i) {
     AttachmentState& a = attachments_[i];
     if (!a.holding) continue;
@@ -483,6 +644,54 @@ void TissueContactSolver::solve(Real dt, Real time) {
     if (a.force > a.spec.pullout_force) {
       a.holding = false;  // torn out: for good
       a.torn_at = time;
+    }
+  }
+  untangle();
+}
+
+void TissueContactSolver::untangle() {
+  rewound_ = 0;
+  for (Body& body : bodies_) {
+    if (!body.self) continue;
+    const MassSpringSettings& s = *tissues_[body.tissue].settings;
+    MassSpringState& state = *tissues_[body.tissue].state;
+    std::vector<Vec3>& x = state.positions;
+    bool crossed = true;
+    for (int round = 0; round <= kMaxRewinds && crossed; ++round) {
+      if (round == kMaxRewinds) {  // still tangled: the whole tissue goes back
+        for (std::size_t v = 0; v < x.size(); ++v) body.rewind[v] = 1;
+      } else {
+        // The triangles' boxes as they are now, and every edge against the triangles its box meets.
+        for (std::size_t t = 0; t < s.triangles.size(); ++t) {
+          const Triangle& tri = s.triangles[t];
+          body.lo[t] = component_min(component_min(x[tri[0]], x[tri[1]]), x[tri[2]]);
+          body.hi[t] = component_max(component_max(x[tri[0]], x[tri[1]]), x[tri[2]]);
+        }
+        body.grid.build(body.lo, body.hi);
+        crossed = false;
+        for (const auto& edge : body.edges) {
+          const std::uint32_t i = edge[0], j = edge[1];
+          const Vec3 lo = component_min(x[i], x[j]), hi = component_max(x[i], x[j]);
+          body.grid.query(lo, hi, [&](std::uint32_t t) {
+            const Triangle& tri = s.triangles[t];
+            if (tri[0] == i || tri[1] == i || tri[2] == i || tri[0] == j || tri[1] == j || tri[2] == j) return;
+            if ((lo.array() > body.hi[t].array()).any() || (hi.array() < body.lo[t].array()).any()) return;
+            if (!segment_crosses_triangle(x[i], x[j], x[tri[0]], x[tri[1]], x[tri[2]])) return;
+            body.rewind[i] = body.rewind[j] = 1;
+            for (const std::uint32_t v : tri) body.rewind[v] = 1;
+            crossed = true;
+          });
+        }
+        if (!crossed) break;
+      }
+      for (std::size_t v = 0; v < x.size(); ++v) {
+        if (body.rewind[v] == 0) continue;
+        body.rewind[v] = 0;
+        if (x[v] == body.start[v] && state.velocities[v].isZero()) continue;
+        x[v] = body.start[v];
+        state.velocities[v].setZero();
+        ++rewound_;
+      }
     }
   }
 }
@@ -520,6 +729,7 @@ void TissueContactSolver::begin_coupled(std::span<const CoupledTissue> tissues, 
   }
   std::fill(coupled_force_.begin(), coupled_force_.end(), Real{0});
   candidates_.clear();
+  edge_candidates_.clear();
   // How far a vertex may move this step: twice its last step's (its velocity's) plus gravity's
   // fall, at least kMotionFloor (an instrument can set a resting vertex moving), at most
   // kMotionCap (the instruments' own contact reach is 3 m/s). A vertex that moves further within
@@ -552,6 +762,7 @@ void TissueContactSolver::begin_coupled(std::span<const CoupledTissue> tissues, 
     Body& b = bodies_[static_cast<std::size_t>(body_of_[pair.b])];
     gather(pair, a, b, pair.a == pair.b, true);
     if (pair.a != pair.b) gather(pair, b, a, false, true);
+    if (pair.a == pair.b) gather_edges(pair, a, true);
   }
 }
 
@@ -560,6 +771,10 @@ void TissueContactSolver::solve_coupled_positions(Real h) {
   for (Candidate& c : candidates_) {
     c.touching = false;  // this substep's
     project_contact(c, access);
+  }
+  for (EdgeCandidate& c : edge_candidates_) {
+    c.touching = false;
+    project_edges(c, access);
   }
   const Real alpha_scale = 1 / (h * h);
   for (std::size_t i = 0; i < attachments_.size(); ++i) {
@@ -583,10 +798,14 @@ void TissueContactSolver::solve_coupled_velocities(Real h) {
   ParticleAccess access{coupled_x_, coupled_v_};
   for (const Candidate& c : candidates_)
     if (c.touching || c.adhered) contact_velocities(c, h, access);
+  for (const EdgeCandidate& c : edge_candidates_)
+    if (c.touching) edge_velocities(c, h, access);
 }
 
 void TissueContactSolver::end_coupled(Real time) {
   for (const Candidate& c : candidates_)
+    if (c.corrected) ++corrected_;
+  for (const EdgeCandidate& c : edge_candidates_)
     if (c.corrected) ++corrected_;
   for (std::size_t i = 0; i < attachments_.size(); ++i) {
     AttachmentState& a = attachments_[i];
@@ -598,6 +817,7 @@ void TissueContactSolver::end_coupled(Real time) {
     }
   }
   std::fill(coupled_.begin(), coupled_.end(), nullptr);
+  untangle();  // on the states the solvers' finish() wrote
 }
 
 std::size_t TissueContactSolver::attach(const AttachmentSpec& spec) {

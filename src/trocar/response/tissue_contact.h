@@ -144,6 +144,8 @@ class TissueContactSolver {
   void end_coupled(Real time);
   /// Vertices the last solve moved (all pairs).
   std::uint32_t corrected() const { return corrected_; }
+  /// Vertices the last step's fail-safe put back where they started it (self pairs: untangle()).
+  std::uint32_t rewound() const { return rewound_; }
 
  private:
   /// A tissue that takes part in a pair: where its vertices started, its triangles' boxes and
@@ -159,6 +161,13 @@ class TissueContactSolver {
     /// Per triangle, the triangle across each local edge k (corners k, k+1); UINT32_MAX on the
     /// border or at a non-manifold edge.
     std::vector<std::array<std::uint32_t, 3>> across;
+    /// Its unique edges (vertex pairs) and, per triangle, the edge ids of its local edges k
+    /// (corners k, k+1): the self contact's edge–edge candidates.
+    std::vector<std::array<std::uint32_t, 2>> edges;
+    std::vector<std::array<std::uint32_t, 3>> triangle_edges;
+    std::vector<std::uint64_t> edge_seen;  ///< per edge: the last gather round that paired it
+    std::vector<std::uint8_t> rewind;      ///< per vertex: to be put back (untangle)
+    bool self = false;                     ///< in a self pair
     TriangleGrid grid;
   };
   /// A vertex near a triangle (of the same or another tissue) and the side it must stay on.
@@ -178,6 +187,23 @@ class TissueContactSolver {
     bool corrected;   ///< moved at least once this solve
   };
 
+  /// Two edges of one tissue near each other (self contact) and the side of each other's line
+  /// they started on (Bridson, Fedkiw & Anderson 2002, §7: edge–edge proximity; a vertex–face
+  /// test alone misses an edge passing through another with no vertex changing side).
+  struct EdgeCandidate {
+    std::uint32_t tissue, e, f;  ///< edges e = (i, j) and f = (k, l) of the tissue
+    /// Where the closest points of the two segments lay strictly inside both at the step's start:
+    /// the sign of (e × f)·(x_k − x_i) then (the side of e's line f's lay on); 0 otherwise (no
+    /// crossing can be told from the lines' sides).
+    Real sigma;
+    Real thickness, friction;
+    Real reach;       ///< the deepest violation this step's motion can explain (m)
+    Vec3 direction;   ///< last correction: unit, from e's closest point toward f's
+    Real s, t;        ///< last correction: the closest points' parameters on e and f
+    bool touching;    ///< pushed apart in some sweep of this solve
+    bool corrected;
+  };
+
   /// `predicted`: the coupled gather (start ± each vertex's motion bound) instead of start and
   /// end.
   void gather(const TissueContactPair& pair, Body& vertices, Body& triangles, bool self, bool predicted);
@@ -190,6 +216,20 @@ class TissueContactSolver {
   template <typename Access>
   bool crossed_beyond(const Candidate& c, const TriangleClosestPoint& q, const Vec3& p, const Vec3& n, const Vec3& d,
                       Access& access) const;
+  /// The self pair's edge–edge candidates (same motion bounds as gather()).
+  void gather_edges(const TissueContactPair& pair, Body& body, bool predicted);
+  template <typename Access>
+  void project_edges(EdgeCandidate& c, Access& access);
+  template <typename Access>
+  void edge_velocities(const EdgeCandidate& c, Real dt, Access& access);
+  /// The fail-safe after a step, for each tissue in a self pair: every edge that now passes
+  /// through one of its triangles is put back, with that triangle, where they started the step,
+  /// at rest (Provot 1997's rewind; Bridson, Fedkiw & Anderson 2002 §7.4 use it as the last
+  /// resort too). The step started uncrossed, so a vertex put back cannot cross another put back;
+  /// repeated until nothing crosses (after kMaxRewinds rounds the whole tissue goes back).
+  void untangle();
+  /// The edges of the tissues in self pairs (the edge candidates' reserve).
+  std::size_t self_edges() const;
   /// Sets body's border and its triangles' neighbours from its tissue's model.
   void set_adjacency(Body& body);
   /// False (and nothing moved) when the attachment is stretched past `stretch_limit` (m).
@@ -210,8 +250,11 @@ class TissueContactSolver {
   std::vector<Body> bodies_;                 ///< the tissues in pairs
   std::vector<std::int32_t> body_of_;        ///< per tissue: index into bodies_, −1 if in no pair
   std::vector<Candidate> candidates_;
+  std::vector<EdgeCandidate> edge_candidates_;
+  std::uint64_t edge_round_ = 0;             ///< gather rounds (one per edge queried), never reset
   std::size_t capacity_ = 0;
   std::uint32_t corrected_ = 0;
+  std::uint32_t rewound_ = 0;
   // Coupled: per tissue its solver (null: not in lock-step), the substeps, and per attachment
   // Σ |λ|/h² over the substeps so far.
   std::vector<XpbdSolver*> coupled_;
