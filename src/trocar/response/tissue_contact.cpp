@@ -290,7 +290,19 @@ void TissueContactSolver::gather_edges(const TissueContactPair& pair, Body& body
         const std::uint32_t k = body.edges[f][0], l = body.edges[f][1];
         if (k == i || k == j || l == i || l == j) continue;  // they share a vertex: never apart
         if (fixed(i) && fixed(j) && fixed(k) && fixed(l)) continue;
-        const Real edge_reach = pair.thickness + edge_motion + std::max(motion(k), motion(l));
+        // f's box over the step against e's grown by the gap, before the exact distance.
+        const Real f_motion = std::max(motion(k), motion(l));
+        Vec3 f_lo = component_min(x0[k], x0[l]), f_hi = component_max(x0[k], x0[l]);
+        if (predicted) {
+          f_lo.array() -= f_motion;
+          f_hi.array() += f_motion;
+        } else {
+          f_lo = component_min(f_lo, component_min(x[k], x[l]));
+          f_hi = component_max(f_hi, component_max(x[k], x[l]));
+        }
+        if ((f_lo.array() > hi.array() + pair.thickness).any() || (f_hi.array() < lo.array() - pair.thickness).any())
+          continue;
+        const Real edge_reach = pair.thickness + edge_motion + f_motion;
         const SegmentSegmentClosest start = closest_points_segment_segment(x0[i], x0[j], x0[k], x0[l]);
         if (start.distance_squared > edge_reach * edge_reach) continue;  // cannot come within the gap
         EdgeCandidate c{};
