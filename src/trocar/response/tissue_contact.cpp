@@ -338,7 +338,7 @@ void TissueContactSolver::project_edges(EdgeCandidate& c, Access& access) {
     direction = c.sigma * (xj - xi).cross(xl - xk).normalized();
     distance = direction.dot(d);  // ≤ 0: how far past
   } else {
-    if (!(distance > 0)) return;  // touching with no direction to part them: the faces' contacts will
+    if (!(distance > 0)) return;  // touching, no direction to part them: the faces' contacts do
     direction = d / distance;
   }
   const Real violation = c.thickness - distance;

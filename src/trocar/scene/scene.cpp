@@ -268,7 +268,8 @@ void read_instrument(const JsonReader& r, std::size_t index, Scene& scene, const
 }
 
 /// "ports": {name: [x, y, z] or a landmark's name}: where each named port enters the body
-/// (docs/scene.md "Ports"). Every instrument naming that port takes the point (Instrument::set_port).
+/// (docs/scene.md, the root key "ports"). Every instrument naming that port takes the point
+/// (Instrument::set_port).
 void read_ports(const JsonReader& ports, Scene& scene) {
   if (!ports.is_object()) ports.fail("must be an object of port name: [x, y, z] or a landmark's name");
   for (const auto& item : ports.value().items()) {
