@@ -272,6 +272,8 @@ void TissueContactSolver::gather_edges(const TissueContactPair& pair, Body& body
   for (std::uint32_t e = 0; e < body.edges.size(); ++e) {
     const std::uint32_t i = body.edges[e][0], j = body.edges[e][1];
     const Real edge_motion = std::max(motion(i), motion(j));
+    // Where it may be this step: from its start to its end, or (coupled) anywhere within its
+    // motion bound of its start.
     Vec3 lo = component_min(x0[i], x0[j]), hi = component_max(x0[i], x0[j]);
     if (predicted) {
       lo.array() -= edge_motion;
@@ -290,19 +292,7 @@ void TissueContactSolver::gather_edges(const TissueContactPair& pair, Body& body
         const std::uint32_t k = body.edges[f][0], l = body.edges[f][1];
         if (k == i || k == j || l == i || l == j) continue;  // they share a vertex: never apart
         if (fixed(i) && fixed(j) && fixed(k) && fixed(l)) continue;
-        // f's box over the step against e's grown by the gap, before the exact distance.
-        const Real f_motion = std::max(motion(k), motion(l));
-        Vec3 f_lo = component_min(x0[k], x0[l]), f_hi = component_max(x0[k], x0[l]);
-        if (predicted) {
-          f_lo.array() -= f_motion;
-          f_hi.array() += f_motion;
-        } else {
-          f_lo = component_min(f_lo, component_min(x[k], x[l]));
-          f_hi = component_max(f_hi, component_max(x[k], x[l]));
-        }
-        if ((f_lo.array() > hi.array() + pair.thickness).any() || (f_hi.array() < lo.array() - pair.thickness).any())
-          continue;
-        const Real edge_reach = pair.thickness + edge_motion + f_motion;
+        const Real edge_reach = pair.thickness + edge_motion + std::max(motion(k), motion(l));
         const SegmentSegmentClosest start = closest_points_segment_segment(x0[i], x0[j], x0[k], x0[l]);
         if (start.distance_squared > edge_reach * edge_reach) continue;  // cannot come within the gap
         EdgeCandidate c{};
@@ -369,7 +359,7 @@ void TissueContactSolver::project_edges(EdgeCandidate& c, Access& access) {
 }
 
 template <typename Access>
-void TissueContactSolver::edge_velocities(const EdgeCandidate& c, Real /*dt*/, Access& access) {
+void TissueContactSolver::edge_velocities(const EdgeCandidate& c, Access& access) {
   const Body& body = bodies_[static_cast<std::size_t>(body_of_[c.tissue])];
   const MassSpringSettings& s = *tissues_[c.tissue].settings;
   const std::uint32_t i = body.edges[c.e][0], j = body.edges[c.e][1], k = body.edges[c.f][0], l = body.edges[c.f][1];
@@ -646,7 +636,7 @@ void TissueContactSolver::solve(Real dt, Real time) {
     if (c.corrected) ++corrected_;
   }
   for (const EdgeCandidate& c : edge_candidates_) {
-    if (c.touching) edge_velocities(c, dt, access);
+    if (c.touching) edge_velocities(c, access);
     if (c.corrected) ++corrected_;
   }
   for (std::size_t i = 0; i < attachments_.size(); ++i) {
@@ -811,7 +801,7 @@ void TissueContactSolver::solve_coupled_velocities(Real h) {
   for (const Candidate& c : candidates_)
     if (c.touching || c.adhered) contact_velocities(c, h, access);
   for (const EdgeCandidate& c : edge_candidates_)
-    if (c.touching) edge_velocities(c, h, access);
+    if (c.touching) edge_velocities(c, access);
 }
 
 void TissueContactSolver::end_coupled(Real time) {

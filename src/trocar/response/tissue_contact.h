@@ -221,7 +221,7 @@ class TissueContactSolver {
   template <typename Access>
   void project_edges(EdgeCandidate& c, Access& access);
   template <typename Access>
-  void edge_velocities(const EdgeCandidate& c, Real dt, Access& access);
+  void edge_velocities(const EdgeCandidate& c, Access& access);
   /// The fail-safe after a step, for each tissue in a self pair: every edge that now passes
   /// through one of its triangles is put back, with that triangle, where they started the step,
   /// at rest (Provot 1997's rewind; Bridson, Fedkiw & Anderson 2002 §7.4 use it as the last
